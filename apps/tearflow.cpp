@@ -1,9 +1,127 @@
-// tearflow: the command-line program. Subcommands are added by the modules that own them.
+// tearflow: the command-line program.
+//   tearflow run [CASE.yaml] [--restart] [-o DIR] [-- PETSc options]
+//   tearflow verify NAME [--convergence] | --list
+// PETSc options go after `--` (or in the case file's petsc_options); those on the command
+// line win over the case file's.
+#include <cstdio>
+#include <string>
+#include <vector>
+
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <petscsys.h>
+
+#include "core/error.hpp"
+#include "fem/petsc.hpp"
+#include "io/case.hpp"
+#include "run/default_case.hpp"
+#include "run/simulation.hpp"
+#include "verify/verification.hpp"
+
+using namespace tearflow;
+
+namespace {
+
+int run_command(const std::string& case_file, bool restart, const std::string& output, bool quiet,
+                const std::string& cli_petsc) {
+  io::Case c = case_file.empty() ? run::default_case() : io::load_case(case_file);
+  if (!output.empty()) c.output.directory = std::filesystem::absolute(output);
+  // Case options first, command-line options after, so the command line wins.
+  TF_PETSC(PetscOptionsInsertString(nullptr, c.petsc_options.c_str()));
+  TF_PETSC(PetscOptionsInsertString(nullptr, cli_petsc.c_str()));
+  const bool root = fem::mpi_rank() == 0;
+  if (root && !quiet)
+    fmt::print("tearflow run '{}': {} steps of {} s, output in '{}'\n", c.name, c.time.steps,
+               c.time.step, c.output.directory.string());
+  run::Simulation sim(std::move(c));
+  if (root && !quiet)
+    fmt::print("mesh: {} nodes, {} tets on {} rank(s)\n", sim.mesh().num_nodes(),
+               sim.mesh().num_tets(), fem::mpi_size());
+  const run::RunSummary s = sim.run({restart, !quiet, true});
+  if (root && !quiet)
+    fmt::print("done: {} steps in {:.1f} s; results in '{}'\n", s.steps, s.wall_seconds,
+               sim.config().output.directory.string());
+  return 0;
+}
+
+int verify_command(const std::string& name, bool list, bool convergence, double coarsening,
+                   bool progress) {
+  const auto& cases = verify::verification_cases();
+  const bool root = fem::mpi_rank() == 0;
+  if (list || name.empty()) {
+    if (root)
+      for (const auto& [n, c] : cases) fmt::print("{:<12} {}\n", n, c.description);
+    return 0;
+  }
+  const auto it = cases.find(name);
+  if (it == cases.end()) {
+    std::string known;
+    for (const auto& [n, c] : cases) known += " " + n;
+    input_error("no verification case '{}'; known:{}", name, known);
+  }
+  const verify::VerificationResult r = it->second.run({convergence, progress, coarsening});
+  if (root) fmt::print("{}\n", r.to_json().dump(2));
+  return r.passed() ? 0 : 1;
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
+  // Split at `--`: ours before, PETSc's after.
+  std::vector<char*> ours, petsc{argv[0]};
+  std::string cli_petsc;
+  bool after = false;
+  for (int i = 0; i < argc; ++i) {
+    if (!after && std::string(argv[i]) == "--") {
+      after = true;
+      continue;
+    }
+    if (after) {
+      cli_petsc += std::string(" ") + argv[i];
+    } else {
+      ours.push_back(argv[i]);
+    }
+  }
+  int petsc_argc = 1;
+  char** petsc_argv = petsc.data();
+  fem::PetscSession session(&petsc_argc, &petsc_argv);
+
   CLI::App app{"tearflow: blood flow and pressure in type B aortic dissection"};
   app.require_subcommand(1);
-  CLI11_PARSE(app, argc, argv);
-  return 0;
+  std::string case_file, output, verify_name;
+  bool restart = false, quiet = false, list = false, convergence = false, progress = false;
+  double coarsening = 1.0;
+  auto* run = app.add_subcommand("run", "run a simulation case (built-in pulsatile pipe if none)");
+  run->add_option("case", case_file, "case file (YAML)");
+  run->add_flag("--restart", restart, "continue from the output directory's checkpoint");
+  run->add_option("-o,--output", output, "output directory (overrides the case file)");
+  run->add_flag("-q,--quiet", quiet, "no progress lines");
+  auto* verify = app.add_subcommand("verify", "run a built-in verification case, print JSON");
+  verify->add_option("name", verify_name, "case name (see --list)");
+  verify->add_flag("--list", list, "list the verification cases");
+  verify->add_flag("--convergence", convergence, "add the mesh-refinement study");
+  verify->add_option("--coarsen", coarsening, "mesh size factor (> 1 coarser; CI's reduced form)")
+      ->check(CLI::Range(0.25, 8.0));
+  verify->add_flag("--progress", progress, "progress lines on stderr");
+
+  int code = 0;
+  try {
+    app.parse(static_cast<int>(ours.size()), ours.data());
+    if (*run) code = run_command(case_file, restart, output, quiet, cli_petsc);
+    if (*verify) code = verify_command(verify_name, list, convergence, coarsening, progress);
+  } catch (const CLI::ParseError& e) {
+    code = app.exit(e);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    code = 2;
+  } catch (const SolverError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    code = 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    code = 1;
+  }
+  // An error seen by one rank only would leave the others waiting in a collective call.
+  if (code != 0 && fem::mpi_size() > 1) MPI_Abort(PETSC_COMM_WORLD, code);
+  return code;
 }

@@ -40,4 +40,8 @@ double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 /// non-empty. Throws InputError.
 void check_mesh(const Mesh& mesh);
 
+/// Removes nodes used by no tet and renumbers tets and faces (readers call it before
+/// check_mesh). Throws InputError if a face triangle uses such a node.
+void drop_unused_nodes(Mesh& mesh);
+
 } // namespace tearflow::mesh

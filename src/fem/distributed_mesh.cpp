@@ -1,0 +1,178 @@
+#include "fem/distributed_mesh.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include <petscmat.h>
+
+#include "core/error.hpp"
+#include "fem/petsc.hpp"
+
+namespace tearflow::fem {
+
+NodeGraph node_graph(const mesh::Mesh& mesh) {
+  const Index n = mesh.num_nodes();
+  // node -> tets (CSR), then the union of their vertices per node, deduplicated by marker.
+  std::vector<Index> count(n + 1, 0);
+  for (const Tet& t : mesh.tets)
+    for (Index v : t) ++count[v + 1];
+  std::partial_sum(count.begin(), count.end(), count.begin());
+  std::vector<Index> node_tets(count.back());
+  std::vector<Index> fill(count.begin(), count.end() - 1);
+  for (Index e = 0; e < mesh.num_tets(); ++e)
+    for (Index v : mesh.tets[e]) node_tets[fill[v]++] = e;
+
+  NodeGraph g;
+  g.offsets.assign(n + 1, 0);
+  g.neighbours.reserve(static_cast<size_t>(n) * 14);
+  std::vector<Index> marker(n, -1);
+  for (Index v = 0; v < n; ++v) {
+    marker[v] = v;
+    const size_t row_begin = g.neighbours.size();
+    for (Index k = count[v]; k < count[v + 1]; ++k)
+      for (Index w : mesh.tets[node_tets[k]])
+        if (marker[w] != v) {
+          marker[w] = v;
+          g.neighbours.push_back(w);
+        }
+    std::sort(g.neighbours.begin() + static_cast<std::ptrdiff_t>(row_begin), g.neighbours.end());
+    g.offsets[v + 1] = static_cast<Index>(g.neighbours.size());
+  }
+  return g;
+}
+
+namespace {
+
+/// Rank of every node, from PETSc's graph partitioner (PT-Scotch in Debian's build, chosen
+/// with -mat_partitioning_type). Each rank hands PETSc one contiguous block of graph rows.
+std::vector<int> partition_nodes(const NodeGraph& g, MPI_Comm comm) {
+  const Index n = static_cast<Index>(g.offsets.size()) - 1;
+  const int size = mpi_size(comm), rank = mpi_rank(comm);
+  if (size == 1) return std::vector<int>(n, 0);
+
+  const Index begin = static_cast<Index>(static_cast<long long>(n) * rank / size);
+  const Index end = static_cast<Index>(static_cast<long long>(n) * (rank + 1) / size);
+  PetscInt *ia = nullptr, *ja = nullptr; // ownership passes to the MPIAdj matrix
+  const Index nnz = g.offsets[end] - g.offsets[begin];
+  TF_PETSC(PetscMalloc1(end - begin + 1, &ia));
+  TF_PETSC(PetscMalloc1(nnz, &ja));
+  for (Index i = begin; i <= end; ++i) ia[i - begin] = g.offsets[i] - g.offsets[begin];
+  std::copy(g.neighbours.begin() + g.offsets[begin], g.neighbours.begin() + g.offsets[end], ja);
+
+  OwnedMat adj;
+  TF_PETSC(MatCreateMPIAdj(comm, end - begin, n, ia, ja, nullptr, adj.out()));
+  MatPartitioning part;
+  TF_PETSC(MatPartitioningCreate(comm, &part));
+  TF_PETSC(MatPartitioningSetAdjacency(part, adj));
+  TF_PETSC(MatPartitioningSetFromOptions(part));
+  OwnedIS local_part, all_part;
+  TF_PETSC(MatPartitioningApply(part, local_part.out()));
+  TF_PETSC(MatPartitioningDestroy(&part));
+  TF_PETSC(ISAllGather(local_part, all_part.out()));
+  const PetscInt* p = nullptr;
+  TF_PETSC(ISGetIndices(all_part, &p));
+  std::vector<int> owner(p, p + n);
+  TF_PETSC(ISRestoreIndices(all_part, &p));
+  return owner;
+}
+
+} // namespace
+
+DistributedMesh::DistributedMesh(const mesh::Mesh& mesh, MPI_Comm comm) : comm_(comm) {
+  const int rank = mpi_rank(comm), size = mpi_size(comm);
+  const Index n = mesh.num_nodes();
+  n_global_ = n;
+  const NodeGraph graph = node_graph(mesh);
+  const std::vector<int> owner = partition_nodes(graph, comm);
+
+  // Renumber: nodes of rank 0 first, then rank 1, ...; original order within a rank.
+  std::vector<Index> first(size + 1, 0);
+  for (Index v = 0; v < n; ++v) ++first[owner[v] + 1];
+  std::partial_sum(first.begin(), first.end(), first.begin());
+  owned_begin_ = first[rank];
+  n_owned_ = first[rank + 1] - first[rank];
+  original_to_global_.resize(n);
+  {
+    std::vector<Index> next(first.begin(), first.end() - 1);
+    for (Index v = 0; v < n; ++v) original_to_global_[v] = next[owner[v]]++;
+  }
+
+  // Local nodes: owned ones in global order, then ghosts in global order.
+  std::vector<Index> global_to_local(n, -1);
+  local_to_original_.assign(n_owned_, 0);
+  for (Index v = 0; v < n; ++v)
+    if (owner[v] == rank) local_to_original_[original_to_global_[v] - owned_begin_] = v;
+  for (Index l = 0; l < n_owned_; ++l) global_to_local[local_to_original_[l]] = l;
+
+  std::vector<Index> my_tets;
+  for (Index e = 0; e < mesh.num_tets(); ++e)
+    if (owner[mesh.tets[e][0]] == rank) my_tets.push_back(e);
+  std::vector<Index> ghosts; // original numbers
+  auto note_ghost = [&](Index v) {
+    if (global_to_local[v] == -1) {
+      global_to_local[v] = -2; // seen
+      ghosts.push_back(v);
+    }
+  };
+  for (Index e : my_tets)
+    for (Index v : mesh.tets[e]) note_ghost(v);
+  for (const mesh::Face& f : mesh.faces)
+    for (const Tri& t : f.triangles)
+      if (owner[t[0]] == rank)
+        for (Index v : t) note_ghost(v);
+  std::sort(ghosts.begin(), ghosts.end(), [&](Index a, Index b) {
+    return original_to_global_[a] < original_to_global_[b];
+  });
+  for (Index v : ghosts) {
+    global_to_local[v] = static_cast<Index>(local_to_original_.size());
+    local_to_original_.push_back(v);
+  }
+  local_to_global_.resize(local_to_original_.size());
+  x_.resize(local_to_original_.size());
+  for (size_t l = 0; l < local_to_original_.size(); ++l) {
+    local_to_global_[l] = original_to_global_[local_to_original_[l]];
+    x_[l] = mesh.points[local_to_original_[l]];
+  }
+
+  tets_.reserve(my_tets.size());
+  tet_region_.reserve(my_tets.size());
+  for (Index e : my_tets) {
+    const Tet& t = mesh.tets[e];
+    tets_.push_back({global_to_local[t[0]], global_to_local[t[1]], global_to_local[t[2]],
+                     global_to_local[t[3]]});
+    tet_region_.push_back(mesh.tet_region.empty() ? 0 : mesh.tet_region[e]);
+  }
+  for (const mesh::Face& f : mesh.faces) {
+    LocalFace lf;
+    lf.name = f.name;
+    std::vector<char> seen(n_owned_, 0);
+    for (const Tri& t : f.triangles) {
+      if (owner[t[0]] == rank)
+        lf.triangles.push_back({global_to_local[t[0]], global_to_local[t[1]], global_to_local[t[2]]});
+      for (Index v : t)
+        if (owner[v] == rank && !seen[global_to_local[v]]) {
+          seen[global_to_local[v]] = 1;
+          lf.owned_nodes.push_back(global_to_local[v]);
+        }
+    }
+    std::sort(lf.owned_nodes.begin(), lf.owned_nodes.end());
+    faces_.push_back(std::move(lf));
+  }
+
+  // Exact preallocation from the replicated graph: rows of owned nodes, split by owner.
+  d_nnz_.assign(n_owned_, 1); // the node itself
+  o_nnz_.assign(n_owned_, 0);
+  for (Index l = 0; l < n_owned_; ++l) {
+    const Index v = local_to_original_[l];
+    for (Index k = graph.offsets[v]; k < graph.offsets[v + 1]; ++k)
+      ++(owner[graph.neighbours[k]] == rank ? d_nnz_[l] : o_nnz_[l]);
+  }
+}
+
+const LocalFace& DistributedMesh::face(const std::string& name) const {
+  for (const LocalFace& f : faces_)
+    if (f.name == name) return f;
+  input_error("mesh has no face named '{}'", name);
+}
+
+} // namespace tearflow::fem

@@ -1,0 +1,98 @@
+#include "io/vtu_series.hpp"
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include "core/error.hpp"
+
+namespace tearflow::io {
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out) throw InputError(fmt::format("cannot write '{}'", tmp.string()));
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+VtuSeries::VtuSeries(const mesh::Mesh& mesh, std::filesystem::path directory, std::string stem)
+    : grid_(vtkSmartPointer<vtkUnstructuredGrid>::New()), directory_(std::move(directory)),
+      stem_(std::move(stem)) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(mesh.num_nodes());
+  for (Index v = 0; v < mesh.num_nodes(); ++v)
+    points->SetPoint(v, mesh.points[v][0], mesh.points[v][1], mesh.points[v][2]);
+  grid_->SetPoints(points);
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  cells->AllocateExact(mesh.num_tets(), 4 * mesh.num_tets());
+  for (const Tet& t : mesh.tets) {
+    const vtkIdType ids[4] = {t[0], t[1], t[2], t[3]};
+    cells->InsertNextCell(4, ids);
+  }
+  grid_->SetCells(VTK_TETRA, cells);
+}
+
+VtuSeries::~VtuSeries() = default;
+
+void VtuSeries::write(int step, double time, const std::vector<PointField>& fields) {
+  vtkPointData* pd = grid_->GetPointData();
+  pd->Initialize();
+  for (const PointField& f : fields) {
+    auto a = vtkSmartPointer<vtkDoubleArray>::New();
+    a->SetName(f.name.c_str());
+    a->SetNumberOfComponents(f.components);
+    a->SetNumberOfTuples(grid_->GetNumberOfPoints());
+    std::copy(f.values.begin(), f.values.end(), a->GetPointer(0));
+    pd->AddArray(a);
+  }
+  const std::string name = fmt::format("{}_{:06d}.vtu", stem_, step);
+  auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
+  writer->SetFileName((directory_ / name).c_str());
+  writer->SetInputData(grid_);
+  writer->SetDataModeToAppended();
+  writer->SetCompressorTypeToLZ4(); // fast; ParaView reads it
+  if (writer->Write() != 1)
+    throw InputError(fmt::format("cannot write '{}'", (directory_ / name).string()));
+  frames_.emplace_back(time, name);
+  write_pvd();
+}
+
+void VtuSeries::write_pvd() const {
+  std::string xml = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+                    "  <Collection>\n";
+  for (const auto& [t, file] : frames_)
+    xml += fmt::format("    <DataSet timestep=\"{:.10g}\" part=\"0\" file=\"{}\"/>\n", t, file);
+  xml += "  </Collection>\n</VTKFile>\n";
+  write_file_atomically(directory_ / (stem_ + ".pvd"), xml);
+}
+
+void VtuSeries::load_existing() {
+  frames_.clear();
+  std::ifstream in(directory_ / (stem_ + ".pvd"));
+  if (!in) return;
+  const std::regex entry(R"re(timestep="([^"]+)".*file="([^"]+)")re");
+  std::string line;
+  std::smatch m;
+  while (std::getline(in, line))
+    if (std::regex_search(line, m, entry)) frames_.emplace_back(std::stod(m[1]), m[2]);
+}
+
+void VtuSeries::truncate_after(double time) {
+  // Frame times are printed with 10 significant digits; compare with matching slack.
+  std::erase_if(frames_, [&](const auto& f) { return f.first > time * (1 + 1e-9) + 1e-12; });
+  write_pvd();
+}
+
+} // namespace tearflow::io

@@ -1,0 +1,47 @@
+#pragma once
+// Results as ParaView reads them: one VTU per saved step and a `.pvd` collection with the
+// time values, rewritten atomically after every frame so that an interrupted run leaves a
+// valid series. Rank 0 writes; fields come in the input mesh's node order.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <vtkSmartPointer.h>
+
+#include "mesh/mesh.hpp"
+
+class vtkUnstructuredGrid;
+
+namespace tearflow::io {
+
+struct PointField {
+  std::string name; ///< bare name (ParaView shows it); units are listed in docs/outputs.md
+  int components = 1;
+  std::vector<double> values; ///< node-major, components per node
+};
+
+class VtuSeries {
+public:
+  /// `stem` names the files: DIR/STEM_000012.vtu and DIR/STEM.pvd.
+  VtuSeries(const mesh::Mesh& mesh, std::filesystem::path directory, std::string stem);
+  ~VtuSeries();
+
+  void write(int step, double time, const std::vector<PointField>& fields);
+  /// Forgets frames after `time` (restart) and rewrites the .pvd.
+  void truncate_after(double time);
+  /// Re-reads an existing .pvd (restart) so new frames are appended to it.
+  void load_existing();
+
+private:
+  void write_pvd() const;
+  vtkSmartPointer<vtkUnstructuredGrid> grid_;
+  std::filesystem::path directory_;
+  std::string stem_;
+  std::vector<std::pair<double, std::string>> frames_;
+};
+
+/// Writes `text` to `path` through a temporary file and a rename, so readers never see a
+/// partial file.
+void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+
+} // namespace tearflow::io

@@ -1,0 +1,327 @@
+#include "physics/fluid_problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "bc/face_geometry.hpp"
+
+namespace tearflow::physics {
+
+namespace {
+constexpr std::uint8_t all_velocity = 0b111;
+
+/// Rows of Dirichlet dofs are not assembled: PETSc ignores negative indices.
+PetscInt row_index(const fem::DofMap& dofs, std::uint8_t mask, Index l, int c) {
+  return (c < 3 && (mask >> c) & 1) ? -1 : dofs.global_dof(l, c);
+}
+} // namespace
+
+FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh,
+                           FluidProperties fluid, bc::FluidConditions conditions,
+                           GeneralizedAlpha scheme)
+    : dmesh_(dmesh), dofs_(dmesh, block), fluid_(fluid), conditions_(std::move(conditions)),
+      scheme_(scheme) {
+  const auto n_local = static_cast<size_t>(dmesh.num_local());
+  geometry_.resize(dmesh.tets().size());
+  for (size_t e = 0; e < geometry_.size(); ++e) {
+    const Tet& t = dmesh.tets()[e];
+    const auto& x = dmesh.points();
+    geometry_[e] = fem::tet_geometry({x[t[0]], x[t[1]], x[t[2]], x[t[3]]});
+  }
+  stab_.resize(geometry_.size());
+
+  // Dirichlet flags on every local node, from the replicated faces, so that all ranks agree
+  // on which rows are skipped. No-slip wins over inflow on the inlet's rim.
+  std::vector<Index> orig_to_local(mesh.num_nodes(), -1);
+  for (Index l = 0; l < dmesh.num_local(); ++l) orig_to_local[dmesh.original_index(l)] = l;
+  dirichlet_.assign(n_local, 0);
+  std::vector<std::uint8_t> is_wall(n_local, 0);
+  for (const std::string& name : conditions_.walls)
+    for (const Tri& t : mesh.face(name).triangles)
+      for (Index v : t)
+        if (Index l = orig_to_local[v]; l >= 0) {
+          dirichlet_[l] = all_velocity;
+          is_wall[l] = 1;
+        }
+  for (size_t i = 0; i < conditions_.inflows.size(); ++i) {
+    const auto& nodes = conditions_.inflows[i].nodes();
+    for (size_t k = 0; k < nodes.size(); ++k)
+      if (Index l = orig_to_local[nodes[k]]; l >= 0 && !is_wall[l]) {
+        dirichlet_[l] = all_velocity;
+        if (l < dmesh.num_owned()) inflow_nodes_.push_back({l, i, k});
+      }
+  }
+  for (Index l = 0; l < dmesh.num_owned(); ++l)
+    if (is_wall[l]) wall_nodes_.push_back(l);
+
+  // Outlets: v_ai = int N_a n_i over this rank's triangles, summed into the global vector.
+  for (const bc::TractionOutlet& spec : conditions_.outlets) {
+    OutletData o{spec, 0, dofs_.create_global(), 0.0};
+    const auto& faces = dmesh.faces();
+    o.face_index = std::find_if(faces.begin(), faces.end(),
+                                [&](const fem::LocalFace& f) { return f.name == spec.face; }) -
+                   faces.begin();
+    fem::OwnedVec v_loc = dofs_.create_local();
+    {
+      fem::WriteArray v(v_loc);
+      for (const Tri& t : faces[o.face_index].triangles) {
+        double area;
+        Vec3 n;
+        bc::triangle_area_normal(dmesh.points()[t[0]], dmesh.points()[t[1]], dmesh.points()[t[2]],
+                                 area, n);
+        for (Index l : t)
+          for (int c = 0; c < 3; ++c)
+            if (!((dirichlet_[l] >> c) & 1)) v[block * l + c] += area / 3.0 * n[c];
+      }
+    }
+    dofs_.add_local_to_global(v_loc, o.v);
+    outlets_.push_back(std::move(o));
+  }
+
+  U_loc_ = dofs_.create_local();
+  R_loc_ = dofs_.create_local();
+  Un_loc_ = dofs_.create_local();
+  Udotn_loc_ = dofs_.create_local();
+  u_af_.resize(n_local);
+  udot_am_.resize(n_local);
+  p_.resize(n_local);
+}
+
+void FluidProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
+  t_n_ = t_n;
+  dt_ = dt;
+  dofs_.global_to_local(U_n, Un_loc_);
+  dofs_.global_to_local(Udot_n, Udotn_loc_);
+  fem::ReadArray un(Un_loc_);
+  const auto& tets = dmesh_.tets();
+  for (size_t e = 0; e < tets.size(); ++e) {
+    Vec3 mean{};
+    for (Index l : tets[e])
+      for (int c = 0; c < 3; ++c) mean[c] += 0.25 * un[block * l + c];
+    stab_[e] = stabilization(geometry_[e], mean, fluid_, dt);
+  }
+}
+
+void FluidProblem::apply_dirichlet(Vec U) const {
+  const double t = t_n_ + dt_;
+  fem::WriteArray u(U);
+  for (Index l : wall_nodes_)
+    for (int c = 0; c < 3; ++c) u[block * l + c] = 0.0;
+  for (const InflowNode& n : inflow_nodes_) {
+    const Vec3 g = conditions_.inflows[n.inflow].velocity(n.k, t);
+    for (int c = 0; c < 3; ++c) u[block * n.local + c] = g[c];
+  }
+}
+
+void FluidProblem::stage(Vec U) {
+  dofs_.global_to_local(U, U_loc_);
+  fem::ReadArray u(U_loc_), un(Un_loc_), udn(Udotn_loc_);
+  const auto [am, af, gamma] = scheme_;
+  for (Index l = 0; l < dmesh_.num_local(); ++l) {
+    for (int c = 0; c < 3; ++c) {
+      const PetscInt i = block * l + c;
+      const double udot_next = (u[i] - un[i]) / (gamma * dt_) - (1.0 - gamma) / gamma * udn[i];
+      u_af_[l][c] = un[i] + af * (u[i] - un[i]);
+      udot_am_[l][c] = udn[i] + am * (udot_next - udn[i]);
+    }
+    p_[l] = u[block * l + 3];
+  }
+}
+
+void FluidProblem::update_outlet_fluxes() {
+  const auto& x = dmesh_.points();
+  for (OutletData& o : outlets_) {
+    double q = 0.0;
+    for (const Tri& t : dmesh_.faces()[o.face_index].triangles) {
+      double area;
+      Vec3 n;
+      bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
+      q += area / 3.0 * dot(u_af_[t[0]] + u_af_[t[1]] + u_af_[t[2]], n);
+    }
+    MPI_Allreduce(&q, &o.flux, 1, MPI_DOUBLE, MPI_SUM, dmesh_.comm());
+  }
+}
+
+double FluidProblem::outlet_pressure(const OutletData& o) const {
+  return o.spec.pressure(t_n_ + scheme_.alpha_f * dt_) + o.spec.resistance * o.flux;
+}
+
+void FluidProblem::residual(Vec U, Vec R) {
+  stage(U);
+  update_outlet_fluxes();
+  TF_PETSC(VecZeroEntries(R_loc_));
+  {
+    fem::WriteArray r(R_loc_);
+    const auto& tets = dmesh_.tets();
+    FluidElementState s;
+    ElementVector Re;
+    for (size_t e = 0; e < tets.size(); ++e) {
+      const Tet& t = tets[e];
+      for (int a = 0; a < 4; ++a) {
+        s.u[a] = u_af_[t[a]];
+        s.udot[a] = udot_am_[t[a]];
+        s.p[a] = p_[t[a]];
+      }
+      navier_stokes_residual(geometry_[e], s, stab_[e], fluid_, Re);
+      for (int a = 0; a < 4; ++a)
+        for (int c = 0; c < block; ++c) r[block * t[a] + c] += Re[block * a + c];
+    }
+
+    // Outlets: -<w, h> = +int N_a P n_i - beta rho int N_a (u.n)_- u_i, the backflow term by
+    // the edge-midpoint rule (exact for the quadratic integrand where u.n keeps its sign).
+    const auto& x = dmesh_.points();
+    for (const OutletData& o : outlets_) {
+      const double P = outlet_pressure(o);
+      const double bf = o.spec.backflow_beta * fluid_.density;
+      for (const Tri& t : dmesh_.faces()[o.face_index].triangles) {
+        double area;
+        Vec3 n;
+        bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
+        for (int a = 0; a < 3; ++a)
+          for (int c = 0; c < 3; ++c) r[block * t[a] + c] += area / 3.0 * P * n[c];
+        if (bf == 0.0) continue;
+        for (int q = 0; q < 3; ++q) { // midpoint of edge (q, q+1)
+          const int a0 = q, a1 = (q + 1) % 3;
+          const Vec3 uq = 0.5 * (u_af_[t[a0]] + u_af_[t[a1]]);
+          const double un = dot(uq, n);
+          if (un >= 0.0) continue;
+          for (int a : {a0, a1})
+            for (int c = 0; c < 3; ++c) r[block * t[a] + c] -= bf * area / 3.0 * 0.5 * un * uq[c];
+        }
+      }
+    }
+  }
+  TF_PETSC(VecZeroEntries(R));
+  dofs_.add_local_to_global(R_loc_, R);
+
+  // Dirichlet rows: R = U - g(t_{n+1}).
+  const double t = t_n_ + dt_;
+  fem::WriteArray r(R);
+  fem::ReadArray u(U);
+  for (Index l : wall_nodes_)
+    for (int c = 0; c < 3; ++c) r[block * l + c] = u[block * l + c];
+  for (const InflowNode& nd : inflow_nodes_) {
+    const Vec3 g = conditions_.inflows[nd.inflow].velocity(nd.k, t);
+    for (int c = 0; c < 3; ++c) r[block * nd.local + c] = u[block * nd.local + c] - g[c];
+  }
+}
+
+void FluidProblem::jacobian(Vec U, Mat J) {
+  stage(U);
+  TF_PETSC(MatZeroEntries(J));
+  const double c_u = scheme_.c_u(), c_a = scheme_.c_a(dt_);
+  const auto& tets = dmesh_.tets();
+  FluidElementState s;
+  ElementMatrix K;
+  std::array<PetscInt, 16> rows, cols;
+  for (size_t e = 0; e < tets.size(); ++e) {
+    const Tet& t = tets[e];
+    for (int a = 0; a < 4; ++a) {
+      s.u[a] = u_af_[t[a]];
+      s.udot[a] = udot_am_[t[a]];
+      s.p[a] = p_[t[a]];
+      for (int c = 0; c < block; ++c) {
+        rows[block * a + c] = row_index(dofs_, dirichlet_[t[a]], t[a], c);
+        cols[block * a + c] = dofs_.global_dof(t[a], c);
+      }
+    }
+    navier_stokes_jacobian(geometry_[e], s, stab_[e], fluid_, c_u, c_a, K);
+    TF_PETSC(MatSetValues(J, 16, rows.data(), 16, cols.data(), &K[0][0], ADD_VALUES));
+  }
+
+  // Backflow term: d/du_dk of -beta rho int N_a (u.n)_- u_i = -beta rho c_u int N_a N_d
+  // (n_k u_i + (u.n) delta_ik) where u.n < 0.
+  const auto& x = dmesh_.points();
+  for (const OutletData& o : outlets_) {
+    const double bf = o.spec.backflow_beta * fluid_.density;
+    if (bf == 0.0) continue;
+    for (const Tri& t : dmesh_.faces()[o.face_index].triangles) {
+      double area;
+      Vec3 n;
+      bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
+      std::array<std::array<double, 9>, 9> Kb{};
+      bool any = false;
+      for (int q = 0; q < 3; ++q) {
+        const int a0 = q, a1 = (q + 1) % 3;
+        const Vec3 uq = 0.5 * (u_af_[t[a0]] + u_af_[t[a1]]);
+        const double un = dot(uq, n);
+        if (un >= 0.0) continue;
+        any = true;
+        for (int a : {a0, a1})
+          for (int d : {a0, a1})
+            for (int i = 0; i < 3; ++i)
+              for (int k = 0; k < 3; ++k)
+                Kb[3 * a + i][3 * d + k] -=
+                    bf * c_u * area / 3.0 * 0.25 * (n[k] * uq[i] + (i == k ? un : 0.0));
+      }
+      if (!any) continue;
+      std::array<PetscInt, 9> brows, bcols;
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) {
+          brows[3 * a + c] = row_index(dofs_, dirichlet_[t[a]], t[a], c);
+          bcols[3 * a + c] = dofs_.global_dof(t[a], c);
+        }
+      TF_PETSC(MatSetValues(J, 9, brows.data(), 9, bcols.data(), &Kb[0][0], ADD_VALUES));
+    }
+  }
+
+  for (Index l = 0; l < dmesh_.num_owned(); ++l)
+    for (int c = 0; c < 3; ++c)
+      if ((dirichlet_[l] >> c) & 1) {
+        const PetscInt d = dofs_.global_dof(l, c);
+        TF_PETSC(MatSetValue(J, d, d, 1.0, ADD_VALUES));
+      }
+  TF_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  TF_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+}
+
+void FluidProblem::add_coupled_outlets(Vec x, Vec y) const {
+  for (const OutletData& o : outlets_) {
+    if (o.spec.resistance == 0.0) continue;
+    PetscScalar vx;
+    TF_PETSC(VecDot(o.v, x, &vx));
+    TF_PETSC(VecAXPY(y, o.spec.resistance * scheme_.c_u() * vx, o.v));
+  }
+}
+
+void FluidProblem::update_acceleration(Vec U_next, Vec U_n, Vec Udot) const {
+  const double gamma = scheme_.gamma;
+  fem::ReadArray u(U_next), un(U_n);
+  fem::WriteArray ud(Udot);
+  for (Index l = 0; l < dmesh_.num_owned(); ++l)
+    for (int c = 0; c < 3; ++c) {
+      const PetscInt i = block * l + c;
+      ud[i] = (u[i] - un[i]) / (gamma * dt_) - (1.0 - gamma) / gamma * ud[i];
+    }
+}
+
+std::vector<FaceMeasure> FluidProblem::measure_faces(Vec U) const {
+  dofs_.global_to_local(U, U_loc_);
+  fem::ReadArray u(U_loc_);
+  const auto& x = dmesh_.points();
+  std::vector<double> sums;
+  for (const fem::LocalFace& f : dmesh_.faces()) {
+    double area_sum = 0.0, flow = 0.0, pressure = 0.0;
+    for (const Tri& t : f.triangles) {
+      double area;
+      Vec3 n;
+      bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
+      area_sum += area;
+      for (Index l : t) {
+        flow += area / 3.0 * (u[block * l] * n[0] + u[block * l + 1] * n[1] + u[block * l + 2] * n[2]);
+        pressure += area / 3.0 * u[block * l + 3];
+      }
+    }
+    sums.insert(sums.end(), {flow, pressure, area_sum});
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM,
+                dmesh_.comm());
+  std::vector<FaceMeasure> out;
+  for (size_t i = 0; i < dmesh_.faces().size(); ++i)
+    out.push_back({dmesh_.faces()[i].name, sums[3 * i], sums[3 * i + 1] / sums[3 * i + 2],
+                   sums[3 * i + 2]});
+  return out;
+}
+
+} // namespace tearflow::physics

@@ -1,0 +1,88 @@
+#pragma once
+// The discrete rigid-wall flow problem of one time step: R(U_{n+1}) = 0 with U = (u, p) per
+// node, assembled from navier_stokes_kernel.hpp and the boundary conditions:
+//   - no-slip and inflow velocities are Dirichlet rows  R = U - g(t_{n+1});
+//   - traction outlets add  -<w, h>  with  h = -P n + beta rho (u.n)_- u,  P = P_0 + R_out Q.
+// The outlet resistance couples every node of the face through Q = int u.n; its Jacobian
+// is the low-rank term  R_out c_u v v^T  (v_ai = int N_a n_i), applied matrix-free by
+// add_coupled_outlets so the assembled matrix keeps its sparsity.
+#include <cstdint>
+#include <vector>
+
+#include "bc/fluid_conditions.hpp"
+#include "fem/dof_map.hpp"
+#include "physics/generalized_alpha.hpp"
+#include "physics/navier_stokes_kernel.hpp"
+
+namespace tearflow::physics {
+
+/// Flow rate, mean pressure and area of one named face.
+struct FaceMeasure {
+  std::string face;
+  double flow = 0.0;     ///< outward flux int u.n [m^3/s]
+  double pressure = 0.0; ///< area-weighted mean pressure [Pa]
+  double area = 0.0;     ///< [m^2]
+};
+
+class FluidProblem {
+public:
+  static constexpr int block = 4; // u_x, u_y, u_z, p per node
+
+  FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh, FluidProperties fluid,
+               bc::FluidConditions conditions, GeneralizedAlpha scheme);
+
+  const fem::DofMap& dofs() const { return dofs_; }
+  const FluidProperties& fluid() const { return fluid_; }
+  const GeneralizedAlpha& scheme() const { return scheme_; }
+
+  /// Prepares the step t_n -> t_n + dt from the state (U_n, Udot_n): caches their local
+  /// values and the lagged stabilization parameters.
+  void begin_step(double t_n, double dt, Vec U_n, Vec Udot_n);
+  /// Writes the Dirichlet values at t_{n+1} into U (the Newton initial guess).
+  void apply_dirichlet(Vec U) const;
+  void residual(Vec U, Vec R);
+  /// The assembled part of dR/dU (everything but the outlet resistances).
+  void jacobian(Vec U, Mat J);
+  /// y += sum over resistance outlets of R_out c_u v (v . x).
+  void add_coupled_outlets(Vec x, Vec y) const;
+  /// Udot_{n+1} from U_{n+1} (generalized-alpha update); overwrites Udot.
+  void update_acceleration(Vec U_next, Vec U_n, Vec Udot) const;
+
+  std::vector<FaceMeasure> measure_faces(Vec U) const;
+
+private:
+  struct OutletData {
+    bc::TractionOutlet spec;
+    size_t face_index;
+    fem::OwnedVec v; ///< int N_a n_i, zero on Dirichlet dofs
+    double flux = 0.0;
+  };
+
+  void stage(Vec U);                   ///< local U -> u_af, udot_am, p per local node
+  void update_outlet_fluxes();         ///< Q of every outlet from u_af (collective)
+  double outlet_pressure(const OutletData& o) const;
+
+  const fem::DistributedMesh& dmesh_;
+  fem::DofMap dofs_;
+  FluidProperties fluid_;
+  bc::FluidConditions conditions_;
+  GeneralizedAlpha scheme_;
+  double t_n_ = 0.0, dt_ = 1.0;
+
+  std::vector<fem::TetGeometry> geometry_; ///< per local tet
+  std::vector<Stabilization> stab_;        ///< per local tet, from U_n
+  std::vector<std::uint8_t> dirichlet_;    ///< per local node: bit c set if u_c is prescribed
+  struct InflowNode {
+    Index local;
+    size_t inflow, k;
+  };
+  std::vector<InflowNode> inflow_nodes_;   ///< owned inflow nodes (not on a wall)
+  std::vector<Index> wall_nodes_;          ///< owned no-slip nodes
+  std::vector<OutletData> outlets_;
+
+  fem::OwnedVec U_loc_, R_loc_, Un_loc_, Udotn_loc_;
+  std::vector<Vec3> u_af_, udot_am_;
+  std::vector<double> p_;
+};
+
+} // namespace tearflow::physics

@@ -1,0 +1,150 @@
+#include "physics/fluid_solver.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace tearflow::physics {
+
+namespace {
+/// Errors thrown inside PETSc callbacks must not cross PETSc's C frames: they are stored
+/// and re-thrown once SNESSolve has returned.
+template <typename F>
+PetscErrorCode guarded(std::string& error, F&& f) {
+  try {
+    f();
+    return 0;
+  } catch (const std::exception& e) {
+    error = e.what();
+    return PETSC_ERR_LIB;
+  }
+}
+} // namespace
+
+FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton)
+    : problem_(problem) {
+  const fem::DofMap& dofs = problem.dofs();
+  U_ = dofs.create_global();
+  Udot_ = dofs.create_global();
+  U_prev_ = dofs.create_global();
+  R_ = dofs.create_global();
+  P_ = dofs.create_matrix("fluid_");
+
+  // A probe of add_coupled_outlets: nonzero output means some outlet has a resistance.
+  {
+    fem::OwnedVec x = dofs.create_global(), y = dofs.create_global();
+    TF_PETSC(VecSet(x, 1.0));
+    problem.add_coupled_outlets(x, y);
+    PetscReal norm;
+    TF_PETSC(VecNorm(y, NORM_INFINITY, &norm));
+    has_coupled_outlets_ = norm > 0.0;
+  }
+  MPI_Comm comm = dofs.mesh().comm();
+  if (has_coupled_outlets_) {
+    const PetscInt n = dofs.num_owned_dofs();
+    TF_PETSC(MatCreateShell(comm, n, n, PETSC_DETERMINE, PETSC_DETERMINE, this, J_.out()));
+    TF_PETSC(MatShellSetOperation(J_, MATOP_MULT, (void (*)(void))shell_mult));
+  }
+
+  TF_PETSC(SNESCreate(comm, snes_.out()));
+  TF_PETSC(SNESSetOptionsPrefix(snes_, "fluid_"));
+  TF_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
+  TF_PETSC(SNESSetJacobian(snes_, has_coupled_outlets_ ? J_.get() : P_.get(), P_, form_jacobian,
+                           this));
+  TF_PETSC(SNESSetType(snes_, SNESNEWTONLS));
+  SNESLineSearch ls;
+  TF_PETSC(SNESGetLineSearch(snes_, &ls));
+  // The exact Jacobian makes full Newton steps converge; a line search only costs residuals.
+  TF_PETSC(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+  TF_PETSC(SNESSetTolerances(snes_, newton.atol, newton.rtol, 0.0, newton.max_iterations, -1));
+  // Every step must do at least one Newton iteration: the initial guess is never the answer.
+  TF_PETSC(SNESSetForceIteration(snes_, PETSC_TRUE));
+  KSP ksp;
+  TF_PETSC(SNESGetKSP(snes_, &ksp));
+  TF_PETSC(KSPSetType(ksp, KSPGMRES));
+  TF_PETSC(KSPGMRESSetRestart(ksp, 200));
+  TF_PETSC(KSPSetTolerances(ksp, 1e-4, 1e-14, PETSC_DEFAULT, 1000));
+  PC pc;
+  TF_PETSC(KSPGetPC(ksp, &pc));
+  if (fem::mpi_size(comm) == 1) {
+    TF_PETSC(PCSetType(pc, PCILU));
+  } else {
+    TF_PETSC(PCSetType(pc, PCASM));
+  }
+  TF_PETSC(SNESSetFromOptions(snes_));
+}
+
+PetscErrorCode FluidSolver::shell_mult(Mat J, Vec x, Vec y) {
+  void* ctx;
+  MatShellGetContext(J, &ctx);
+  auto* self = static_cast<FluidSolver*>(ctx);
+  return guarded(self->callback_error_, [&] {
+    TF_PETSC(MatMult(self->P_, x, y));
+    self->problem_.add_coupled_outlets(x, y);
+  });
+}
+
+PetscErrorCode FluidSolver::form_residual(SNES, Vec U, Vec R, void* ctx) {
+  auto* self = static_cast<FluidSolver*>(ctx);
+  const double t0 = MPI_Wtime();
+  const PetscErrorCode err = guarded(self->callback_error_, [&] { self->problem_.residual(U, R); });
+  self->assembly_seconds_ += MPI_Wtime() - t0;
+  return err;
+}
+
+PetscErrorCode FluidSolver::form_jacobian(SNES, Vec U, Mat, Mat P, void* ctx) {
+  auto* self = static_cast<FluidSolver*>(ctx);
+  const double t0 = MPI_Wtime();
+  const PetscErrorCode err = guarded(self->callback_error_, [&] {
+    self->problem_.jacobian(U, P);
+    if (self->has_coupled_outlets_) {
+      TF_PETSC(MatAssemblyBegin(self->J_, MAT_FINAL_ASSEMBLY));
+      TF_PETSC(MatAssemblyEnd(self->J_, MAT_FINAL_ASSEMBLY));
+    }
+  });
+  self->assembly_seconds_ += MPI_Wtime() - t0;
+  return err;
+}
+
+StepReport FluidSolver::step(double t, double dt) {
+  const double start = MPI_Wtime();
+  assembly_seconds_ = 0.0;
+  callback_error_.clear();
+  problem_.begin_step(t, dt, U_, Udot_);
+  TF_PETSC(VecCopy(U_, U_prev_));
+  problem_.apply_dirichlet(U_);
+
+  StepReport report;
+  {
+    // The initial residual, for the report (SNES computes its own as well).
+    problem_.residual(U_, R_);
+    TF_PETSC(VecNorm(R_, NORM_2, &report.residual_initial));
+  }
+  const PetscErrorCode err = SNESSolve(snes_, nullptr, U_);
+  SNESConvergedReason reason;
+  SNESGetConvergedReason(snes_, &reason);
+  PetscInt its = 0, lits = 0;
+  SNESGetIterationNumber(snes_, &its);
+  SNESGetLinearSolveIterations(snes_, &lits);
+  PetscReal fnorm = 0.0;
+  SNESGetFunctionNorm(snes_, &fnorm);
+  report.newton_iterations = static_cast<int>(its);
+  report.linear_iterations = static_cast<int>(lits);
+  report.residual_final = fnorm;
+  report.assembly_seconds = assembly_seconds_;
+  report.solve_seconds = MPI_Wtime() - start - assembly_seconds_;
+
+  if (err != 0 || reason < 0 || !std::isfinite(fnorm)) {
+    TF_PETSC(VecCopy(U_prev_, U_)); // leave the last good state in place
+    const std::string why = !callback_error_.empty() ? callback_error_
+                            : !std::isfinite(fnorm)  ? std::string("residual is not a number")
+                                                     : SNESConvergedReasons[reason];
+    throw SolverError(fmt::format("Newton failed in the step from t = {:.6g} s to {:.6g} s after "
+                                  "{} iterations (residual {:.3e}, initial {:.3e}): {}",
+                                  t, t + dt, its, fnorm, report.residual_initial, why));
+  }
+  problem_.update_acceleration(U_, U_prev_, Udot_);
+  return report;
+}
+
+} // namespace tearflow::physics

@@ -1,0 +1,65 @@
+#pragma once
+// One simulation from a validated case: case -> mesh -> partition -> physics -> solver ->
+// outputs. `run` is what `tearflow run` does; verification drivers use `advance` and the
+// accessors to compare the state with analytic solutions.
+#include <memory>
+#include <vector>
+
+#include "fem/distributed_mesh.hpp"
+#include "io/case.hpp"
+#include "physics/fluid_solver.hpp"
+
+namespace tearflow::run {
+
+struct RunOptions {
+  bool restart = false;  ///< continue from the output directory's checkpoint
+  bool progress = true;  ///< one progress line per step on stdout
+  bool write_output = true;
+};
+
+struct RunSummary {
+  int steps = 0;          ///< steps taken by this call
+  double wall_seconds = 0.0;
+  std::vector<physics::StepReport> reports;
+};
+
+/// The case's mesh in SI units with outward-oriented faces, checked against the case.
+mesh::Mesh load_mesh(const io::Case& c);
+bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m);
+
+class Simulation {
+public:
+  explicit Simulation(io::Case c, MPI_Comm comm = PETSC_COMM_WORLD);
+  ~Simulation();
+
+  RunSummary run(const RunOptions& options);
+  physics::StepReport advance(); ///< one time step
+
+  int step() const { return step_; }
+  double time() const { return step_ * case_.time.step; }
+  const io::Case& config() const { return case_; }
+  const mesh::Mesh& mesh() const { return mesh_; }
+  const fem::DistributedMesh& distributed_mesh() const { return *dmesh_; }
+  physics::FluidProblem& problem() { return *problem_; }
+  physics::FluidSolver& solver() { return *solver_; }
+
+  /// The whole vector on every rank, in the input mesh's node order, block 4 per node.
+  std::vector<double> gather(Vec v) const;
+  /// Sets (U, Udot) from full vectors in the input mesh's node order; sets the step.
+  void set_state(int step, const std::vector<double>& U, const std::vector<double>& Udot);
+
+private:
+  void write_frame();
+  void append_face_rows(std::vector<std::string>& rows) const;
+
+  io::Case case_;
+  mesh::Mesh mesh_;
+  std::unique_ptr<fem::DistributedMesh> dmesh_;
+  std::unique_ptr<physics::FluidProblem> problem_;
+  std::unique_ptr<physics::FluidSolver> solver_;
+  int step_ = 0;
+  struct Output;
+  std::unique_ptr<Output> output_;
+};
+
+} // namespace tearflow::run

@@ -1,0 +1,38 @@
+#include "verify/verification.hpp"
+
+#include "verify/cases.hpp"
+
+namespace tearflow::verify {
+
+bool VerificationResult::passed() const {
+  for (const Metric& m : metrics)
+    if (!m.passed()) return false;
+  return !metrics.empty();
+}
+
+nlohmann::json VerificationResult::to_json() const {
+  nlohmann::json j;
+  j["case"] = name;
+  j["passed"] = passed();
+  for (const Metric& m : metrics)
+    j["metrics"][m.name] = {{"value", m.value},
+                            {"tolerance", m.tolerance},
+                            {"passed", m.passed()},
+                            {"meaning", m.meaning}};
+  j["details"] = details;
+  return j;
+}
+
+const std::map<std::string, VerificationCase>& verification_cases() {
+  static const std::map<std::string, VerificationCase> cases = {
+      {"poiseuille", {"steady flow in a rigid pipe against the parabolic profile and the "
+                      "Hagen-Poiseuille pressure drop; --convergence adds the L2 rate",
+                      verify_poiseuille}},
+      {"womersley", {"pulsatile flow in a rigid pipe (Womersley number ~12) against the "
+                     "analytic Womersley profile over one cycle",
+                     verify_womersley}},
+  };
+  return cases;
+}
+
+} // namespace tearflow::verify

@@ -1,0 +1,44 @@
+#pragma once
+// Built-in verification cases: each runs a problem whose answer is known independently of
+// the code and reports its error metrics against tolerances derived from the method's
+// expected accuracy. `tearflow verify NAME` prints the result as one JSON object.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace tearflow::verify {
+
+struct Metric {
+  std::string name;
+  double value = 0.0;
+  double tolerance = 0.0; ///< pass when value <= tolerance
+  std::string meaning;    ///< what is measured and why the tolerance
+  bool passed() const { return value <= tolerance; }
+};
+
+struct VerificationResult {
+  std::string name;
+  std::vector<Metric> metrics;
+  nlohmann::json details; ///< supporting numbers: meshes, sizes, rates, samples
+  bool passed() const;
+  nlohmann::json to_json() const;
+};
+
+struct VerifyOptions {
+  bool convergence = false; ///< also run the refinement study
+  bool progress = false;    ///< per-step progress lines on stderr
+  /// Scales the mesh size: > 1 coarsens (the reduced form CI runs), 1 is the default mesh.
+  double coarsening = 1.0;
+};
+
+struct VerificationCase {
+  std::string description;
+  std::function<VerificationResult(const VerifyOptions&)> run;
+};
+
+const std::map<std::string, VerificationCase>& verification_cases();
+
+} // namespace tearflow::verify
