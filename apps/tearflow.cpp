@@ -25,7 +25,8 @@ namespace {
 int run_command(const std::string& case_file, bool restart, const std::string& output, bool quiet,
                 const std::string& cli_petsc) {
   io::Case c = case_file.empty() ? run::default_case() : io::load_case(case_file);
-  if (!output.empty()) c.output.directory = std::filesystem::absolute(output);
+  if (!output.empty())
+    c.output.directory = std::filesystem::absolute(output);
   // Case options first, command-line options after, so the command line wins.
   TF_PETSC(PetscOptionsInsertString(nullptr, c.petsc_options.c_str()));
   TF_PETSC(PetscOptionsInsertString(nullptr, cli_petsc.c_str()));
@@ -50,17 +51,20 @@ int verify_command(const std::string& name, bool list, bool convergence, double 
   const bool root = fem::mpi_rank() == 0;
   if (list || name.empty()) {
     if (root)
-      for (const auto& [n, c] : cases) fmt::print("{:<12} {}\n", n, c.description);
+      for (const auto& [n, c] : cases)
+        fmt::print("{:<12} {}\n", n, c.description);
     return 0;
   }
   const auto it = cases.find(name);
   if (it == cases.end()) {
     std::string known;
-    for (const auto& [n, c] : cases) known += " " + n;
+    for (const auto& [n, c] : cases)
+      known += " " + n;
     input_error("no verification case '{}'; known:{}", name, known);
   }
   const verify::VerificationResult r = it->second.run({convergence, progress, coarsening});
-  if (root) fmt::print("{}\n", r.to_json().dump(2));
+  if (root)
+    fmt::print("{}\n", r.to_json().dump(2));
   return r.passed() ? 0 : 1;
 }
 
@@ -107,8 +111,10 @@ int main(int argc, char** argv) {
   int code = 0;
   try {
     app.parse(static_cast<int>(ours.size()), ours.data());
-    if (*run) code = run_command(case_file, restart, output, quiet, cli_petsc);
-    if (*verify) code = verify_command(verify_name, list, convergence, coarsening, progress);
+    if (*run)
+      code = run_command(case_file, restart, output, quiet, cli_petsc);
+    if (*verify)
+      code = verify_command(verify_name, list, convergence, coarsening, progress);
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
   } catch (const InputError& e) {
@@ -122,6 +128,7 @@ int main(int argc, char** argv) {
     code = 1;
   }
   // An error seen by one rank only would leave the others waiting in a collective call.
-  if (code != 0 && fem::mpi_size() > 1) MPI_Abort(PETSC_COMM_WORLD, code);
+  if (code != 0 && fem::mpi_size() > 1)
+    MPI_Abort(PETSC_COMM_WORLD, code);
   return code;
 }

@@ -157,13 +157,15 @@ TEST(LoadCase, MissingFileIsNamed) {
 }
 
 struct BadCase {
-  const char* file;  ///< in tests/data/cases
-  int line;          ///< where the message must point
-  const char* key;   ///< key path named in the message ("" for none)
-  const char* says;  ///< and what it must say
+  const char* file; ///< in tests/data/cases
+  int line;         ///< where the message must point
+  const char* key;  ///< key path named in the message ("" for none)
+  const char* says; ///< and what it must say
 };
 
-std::ostream& operator<<(std::ostream& os, const BadCase& b) { return os << b.file; }
+std::ostream& operator<<(std::ostream& os, const BadCase& b) {
+  return os << b.file;
+}
 
 class BadCaseFile : public testing::TestWithParam<BadCase> {};
 
@@ -171,9 +173,8 @@ TEST_P(BadCaseFile, NamesFileLineAndKey) {
   const BadCase& bad = GetParam();
   const std::string message = load_error(kCases / bad.file);
   ASSERT_FALSE(message.empty()) << bad.file << " loaded without error";
-  const std::string where =
-      *bad.key ? fmt::format("{}:{}: {}", bad.file, bad.line, bad.key)
-               : fmt::format("{}:{}", bad.file, bad.line);
+  const std::string where = *bad.key ? fmt::format("{}:{}: {}", bad.file, bad.line, bad.key)
+                                     : fmt::format("{}:{}", bad.file, bad.line);
   EXPECT_THAT(message, HasSubstr(where));
   EXPECT_THAT(message, HasSubstr(bad.says));
 }
@@ -250,7 +251,8 @@ namespace {
 mesh::Mesh three_face_mesh() {
   mesh::Mesh m;
   m.source = "test-pipe";
-  for (const char* name : {"inlet", "outlet", "wall"}) m.faces.push_back({name, {}});
+  for (const char* name : {"inlet", "outlet", "wall"})
+    m.faces.push_back({name, {}});
   return m;
 }
 
@@ -266,8 +268,7 @@ io::Case case_with_faces(std::initializer_list<const char*> faces) {
 }
 
 /// Runs f with the default logger writing to a buffer; returns the lines logged.
-template <typename F>
-std::vector<std::string> logged(F f) {
+template <typename F> std::vector<std::string> logged(F f) {
   auto sink = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(16);
   auto previous = spdlog::default_logger();
   spdlog::set_default_logger(std::make_shared<spdlog::logger>("test", sink));

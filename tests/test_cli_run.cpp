@@ -28,7 +28,8 @@ Result run(const std::string& args, const std::string& launcher = "") {
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  while (size_t n = fread(buf, 1, sizeof buf, p))
+    out.append(buf, n);
   const int status = pclose(p);
   return {WEXITSTATUS(status), out};
 }
@@ -63,14 +64,15 @@ std::map<std::pair<int, std::string>, std::pair<double, double>> read_faces(cons
 
 TEST(CliRun, RestartReproducesUninterruptedRun) {
   const fs::path full = fresh_dir("full"), split = fresh_dir("split");
-  const Result a = run("run " + (data / "runs/small_pipe.yaml").string() + " -q -o " + full.string());
+  const Result a =
+      run("run " + (data / "runs/small_pipe.yaml").string() + " -q -o " + full.string());
   ASSERT_EQ(a.code, 0) << a.output;
   // First half, then the full-length case continued from the half's checkpoint.
-  ASSERT_EQ(run("run " + (data / "runs/small_pipe_half.yaml").string() + " -q -o " + split.string())
-                .code,
-            0);
-  const Result b = run("run " + (data / "runs/small_pipe.yaml").string() + " -q --restart -o " +
-                       split.string());
+  ASSERT_EQ(
+      run("run " + (data / "runs/small_pipe_half.yaml").string() + " -q -o " + split.string()).code,
+      0);
+  const Result b =
+      run("run " + (data / "runs/small_pipe.yaml").string() + " -q --restart -o " + split.string());
   ASSERT_EQ(b.code, 0) << b.output;
   const auto ra = read_faces(full), rb = read_faces(split);
   ASSERT_EQ(ra.size(), rb.size()); // every step once, no duplicated rows after the restart
@@ -85,7 +87,8 @@ TEST(CliRun, RestartReproducesUninterruptedRun) {
   std::ifstream pvd(split / "flow.pvd");
   std::string text((std::istreambuf_iterator<char>(pvd)), {});
   size_t frames = 0;
-  for (size_t at = text.find("<DataSet"); at != std::string::npos; at = text.find("<DataSet", at + 1))
+  for (size_t at = text.find("<DataSet"); at != std::string::npos;
+       at = text.find("<DataSet", at + 1))
     ++frames;
   EXPECT_EQ(frames, 3u);
 }

@@ -26,7 +26,8 @@ ElementCase random_setup(unsigned seed) {
   std::array<Vec3, 4> x{Vec3{0, 0, 0}, Vec3{h, 0, 0}, Vec3{0.2 * h, 1.1 * h, 0},
                         Vec3{0.3 * h, 0.2 * h, 0.9 * h}};
   for (auto& p : x)
-    for (double& c : p) c += 0.1 * h * U(gen);
+    for (double& c : p)
+      c += 0.1 * h * U(gen);
   s.geo = fem::tet_geometry(x);
   for (int a = 0; a < 4; ++a) {
     for (int i = 0; i < 3; ++i) {
@@ -49,7 +50,8 @@ TEST(NavierStokesKernel, JacobianMatchesFiniteDifferences) {
     navier_stokes_jacobian(s.geo, s.state, s.stab, s.fluid, c_u, c_a, K);
     double scale = 0.0;
     for (auto& row : K)
-      for (double v : row) scale = std::max(scale, std::abs(v));
+      for (double v : row)
+        scale = std::max(scale, std::abs(v));
     for (int d = 0; d < 4; ++d)
       for (int k = 0; k < 4; ++k) {
         // A change du of the unknown at t_{n+1} changes u_{n+af} by c_u du and the
@@ -89,8 +91,10 @@ TEST(NavierStokesKernel, RigidTranslationAndHydrostaticGiveNoResidual) {
   navier_stokes_residual(s.geo, s.state, s.stab, s.fluid, R);
   for (int i = 0; i < 3; ++i) {
     double sum = 0.0;
-    for (int a = 0; a < 4; ++a) sum += R[4 * a + i];
+    for (int a = 0; a < 4; ++a)
+      sum += R[4 * a + i];
     EXPECT_NEAR(sum, 0.0, 1e-12);
   }
-  for (int a = 0; a < 4; ++a) EXPECT_NEAR(R[4 * a + 3], 0.0, 1e-15);
+  for (int a = 0; a < 4; ++a)
+    EXPECT_NEAR(R[4 * a + 3], 0.0, 1e-15);
 }

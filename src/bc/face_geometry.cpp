@@ -34,7 +34,8 @@ FaceGeometry face_geometry(const mesh::Mesh& mesh, const mesh::Face& face) {
       Index u = t[k], v = t[(k + 1) % 3];
       ++edge_count[{std::min(u, v), std::max(u, v)}];
     }
-    for (Index v : t) g.nodes.push_back(v);
+    for (Index v : t)
+      g.nodes.push_back(v);
   }
   std::sort(g.nodes.begin(), g.nodes.end());
   g.nodes.erase(std::unique(g.nodes.begin(), g.nodes.end()), g.nodes.end());
@@ -52,12 +53,14 @@ FaceGeometry face_geometry(const mesh::Mesh& mesh, const mesh::Face& face) {
   // The rim: edges used by exactly one triangle.
   std::vector<std::pair<Index, Index>> rim;
   for (const auto& [edge, count] : edge_count)
-    if (count == 1) rim.push_back(edge);
+    if (count == 1)
+      rim.push_back(edge);
   g.rim_distance.resize(g.nodes.size());
   for (size_t k = 0; k < g.nodes.size(); ++k) {
     const Vec3& p = mesh.points[g.nodes[k]];
     double d = rim.empty() ? 0.0 : 1e300;
-    for (const auto& [u, v] : rim) d = std::min(d, segment_distance(p, mesh.points[u], mesh.points[v]));
+    for (const auto& [u, v] : rim)
+      d = std::min(d, segment_distance(p, mesh.points[u], mesh.points[v]));
     g.rim_distance[k] = d;
     g.max_rim_distance = std::max(g.max_rim_distance, d);
   }

@@ -19,11 +19,11 @@ public:
   static Waveform periodic(std::vector<double> t, std::vector<double> v, double period,
                            const std::string& where);
 
-  double operator()(double t) const;      ///< value at time t (periodic repetition)
-  double derivative(double t) const;      ///< dv/dt at time t
+  double operator()(double t) const;        ///< value at time t (periodic repetition)
+  double derivative(double t) const;        ///< dv/dt at time t
   double period() const { return period_; } ///< 0 for a constant
   bool is_constant() const { return t_.empty(); }
-  double mean() const;                    ///< mean over one period (exact for the spline)
+  double mean() const; ///< mean over one period (exact for the spline)
   /// Complex Fourier coefficients c_n, n = 0..modes-1, of the interpolant over one period:
   /// v(t) = Re( c_0 + 2 sum_{n>=1} c_n exp(i n w t) ), w = 2 pi / period.
   std::vector<std::complex<double>> fourier(int modes) const;
@@ -38,8 +38,8 @@ private:
 
 /// Reads a two-column CSV (time, value; optional header line; '#' comments) and converts
 /// with time_scale [s per unit] and value_scale [SI per unit]. Errors name the file and line.
-Waveform read_waveform_csv(const std::filesystem::path& file, double time_scale,
-                           double value_scale, double period);
+Waveform read_waveform_csv(const std::filesystem::path& file, double time_scale, double value_scale,
+                           double period);
 
 /// Reads SimVascular's `.flow` format: first line "nsamples nmodes", then "time flow" lines
 /// in the file's units; the last sample closes the period. value_scale converts flow to SI.

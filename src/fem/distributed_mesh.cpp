@@ -15,12 +15,14 @@ NodeGraph node_graph(const mesh::Mesh& mesh) {
   // node -> tets (CSR), then the union of their vertices per node, deduplicated by marker.
   std::vector<Index> count(n + 1, 0);
   for (const Tet& t : mesh.tets)
-    for (Index v : t) ++count[v + 1];
+    for (Index v : t)
+      ++count[v + 1];
   std::partial_sum(count.begin(), count.end(), count.begin());
   std::vector<Index> node_tets(count.back());
   std::vector<Index> fill(count.begin(), count.end() - 1);
   for (Index e = 0; e < mesh.num_tets(); ++e)
-    for (Index v : mesh.tets[e]) node_tets[fill[v]++] = e;
+    for (Index v : mesh.tets[e])
+      node_tets[fill[v]++] = e;
 
   NodeGraph g;
   g.offsets.assign(n + 1, 0);
@@ -48,7 +50,8 @@ namespace {
 std::vector<int> partition_nodes(const NodeGraph& g, MPI_Comm comm) {
   const Index n = static_cast<Index>(g.offsets.size()) - 1;
   const int size = mpi_size(comm), rank = mpi_rank(comm);
-  if (size == 1) return std::vector<int>(n, 0);
+  if (size == 1)
+    return std::vector<int>(n, 0);
 
   const Index begin = static_cast<Index>(static_cast<long long>(n) * rank / size);
   const Index end = static_cast<Index>(static_cast<long long>(n) * (rank + 1) / size);
@@ -56,7 +59,8 @@ std::vector<int> partition_nodes(const NodeGraph& g, MPI_Comm comm) {
   const Index nnz = g.offsets[end] - g.offsets[begin];
   TF_PETSC(PetscMalloc1(end - begin + 1, &ia));
   TF_PETSC(PetscMalloc1(nnz, &ja));
-  for (Index i = begin; i <= end; ++i) ia[i - begin] = g.offsets[i] - g.offsets[begin];
+  for (Index i = begin; i <= end; ++i)
+    ia[i - begin] = g.offsets[i] - g.offsets[begin];
   std::copy(g.neighbours.begin() + g.offsets[begin], g.neighbours.begin() + g.offsets[end], ja);
 
   OwnedMat adj;
@@ -87,26 +91,31 @@ DistributedMesh::DistributedMesh(const mesh::Mesh& mesh, MPI_Comm comm) : comm_(
 
   // Renumber: nodes of rank 0 first, then rank 1, ...; original order within a rank.
   std::vector<Index> first(size + 1, 0);
-  for (Index v = 0; v < n; ++v) ++first[owner[v] + 1];
+  for (Index v = 0; v < n; ++v)
+    ++first[owner[v] + 1];
   std::partial_sum(first.begin(), first.end(), first.begin());
   owned_begin_ = first[rank];
   n_owned_ = first[rank + 1] - first[rank];
   original_to_global_.resize(n);
   {
     std::vector<Index> next(first.begin(), first.end() - 1);
-    for (Index v = 0; v < n; ++v) original_to_global_[v] = next[owner[v]]++;
+    for (Index v = 0; v < n; ++v)
+      original_to_global_[v] = next[owner[v]]++;
   }
 
   // Local nodes: owned ones in global order, then ghosts in global order.
   std::vector<Index> global_to_local(n, -1);
   local_to_original_.assign(n_owned_, 0);
   for (Index v = 0; v < n; ++v)
-    if (owner[v] == rank) local_to_original_[original_to_global_[v] - owned_begin_] = v;
-  for (Index l = 0; l < n_owned_; ++l) global_to_local[local_to_original_[l]] = l;
+    if (owner[v] == rank)
+      local_to_original_[original_to_global_[v] - owned_begin_] = v;
+  for (Index l = 0; l < n_owned_; ++l)
+    global_to_local[local_to_original_[l]] = l;
 
   std::vector<Index> my_tets;
   for (Index e = 0; e < mesh.num_tets(); ++e)
-    if (owner[mesh.tets[e][0]] == rank) my_tets.push_back(e);
+    if (owner[mesh.tets[e][0]] == rank)
+      my_tets.push_back(e);
   std::vector<Index> ghosts; // original numbers
   auto note_ghost = [&](Index v) {
     if (global_to_local[v] == -1) {
@@ -115,14 +124,15 @@ DistributedMesh::DistributedMesh(const mesh::Mesh& mesh, MPI_Comm comm) : comm_(
     }
   };
   for (Index e : my_tets)
-    for (Index v : mesh.tets[e]) note_ghost(v);
+    for (Index v : mesh.tets[e])
+      note_ghost(v);
   for (const mesh::Face& f : mesh.faces)
     for (const Tri& t : f.triangles)
       if (owner[t[0]] == rank)
-        for (Index v : t) note_ghost(v);
-  std::sort(ghosts.begin(), ghosts.end(), [&](Index a, Index b) {
-    return original_to_global_[a] < original_to_global_[b];
-  });
+        for (Index v : t)
+          note_ghost(v);
+  std::sort(ghosts.begin(), ghosts.end(),
+            [&](Index a, Index b) { return original_to_global_[a] < original_to_global_[b]; });
   for (Index v : ghosts) {
     global_to_local[v] = static_cast<Index>(local_to_original_.size());
     local_to_original_.push_back(v);
@@ -148,7 +158,8 @@ DistributedMesh::DistributedMesh(const mesh::Mesh& mesh, MPI_Comm comm) : comm_(
     std::vector<char> seen(n_owned_, 0);
     for (const Tri& t : f.triangles) {
       if (owner[t[0]] == rank)
-        lf.triangles.push_back({global_to_local[t[0]], global_to_local[t[1]], global_to_local[t[2]]});
+        lf.triangles.push_back(
+            {global_to_local[t[0]], global_to_local[t[1]], global_to_local[t[2]]});
       for (Index v : t)
         if (owner[v] == rank && !seen[global_to_local[v]]) {
           seen[global_to_local[v]] = 1;
@@ -171,7 +182,8 @@ DistributedMesh::DistributedMesh(const mesh::Mesh& mesh, MPI_Comm comm) : comm_(
 
 const LocalFace& DistributedMesh::face(const std::string& name) const {
   for (const LocalFace& f : faces_)
-    if (f.name == name) return f;
+    if (f.name == name)
+      return f;
   input_error("mesh has no face named '{}'", name);
 }
 

@@ -17,8 +17,8 @@ namespace tearflow::fem {
 
 struct LocalFace {
   std::string name;
-  std::vector<Tri> triangles;       ///< this rank's share of the face, local node numbers
-  std::vector<Index> owned_nodes;   ///< every owned local node lying on the face
+  std::vector<Tri> triangles;     ///< this rank's share of the face, local node numbers
+  std::vector<Index> owned_nodes; ///< every owned local node lying on the face
 };
 
 class DistributedMesh {

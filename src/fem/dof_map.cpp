@@ -13,7 +13,8 @@ DofMap::DofMap(const DistributedMesh& mesh, int block) : mesh_(&mesh), block_(bl
   TF_PETSC(VecSetBlockSize(template_local_, block));
 
   std::vector<PetscInt> nodes(mesh.num_local());
-  for (Index l = 0; l < mesh.num_local(); ++l) nodes[l] = mesh.global_index(l);
+  for (Index l = 0; l < mesh.num_local(); ++l)
+    nodes[l] = mesh.global_index(l);
   OwnedIS from, to;
   TF_PETSC(ISCreateBlock(PETSC_COMM_SELF, block, static_cast<PetscInt>(nodes.size()), nodes.data(),
                          PETSC_COPY_VALUES, from.out()));

@@ -9,8 +9,8 @@ namespace tearflow::fem {
 std::optional<PointLocation> locate(const mesh::Mesh& mesh, const Vec3& p) {
   for (Index e = 0; e < mesh.num_tets(); ++e) {
     const Tet& t = mesh.tets[e];
-    const TetGeometry g = tet_geometry(
-        {mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]});
+    const TetGeometry g =
+        tet_geometry({mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]});
     // N_a(p) = N_a(x_0) + grad N_a . (p - x_0), with N_a(x_0) = delta_a0.
     PointLocation loc{e, {}};
     bool inside = true;
@@ -18,13 +18,14 @@ std::optional<PointLocation> locate(const mesh::Mesh& mesh, const Vec3& p) {
       loc.barycentric[a] = (a == 0 ? 1.0 : 0.0) + dot(g.grad[a], p - mesh.points[t[0]]);
       inside = loc.barycentric[a] >= -1e-10;
     }
-    if (inside) return loc;
+    if (inside)
+      return loc;
   }
   return std::nullopt;
 }
 
-double interpolate(const mesh::Mesh& mesh, const PointLocation& at, const std::vector<double>& field,
-                   int block, int component) {
+double interpolate(const mesh::Mesh& mesh, const PointLocation& at,
+                   const std::vector<double>& field, int block, int component) {
   double v = 0.0;
   for (int a = 0; a < 4; ++a)
     v += at.barycentric[a] * field[static_cast<size_t>(block) * mesh.tets[at.tet][a] + component];

@@ -18,8 +18,8 @@ struct PointLocation {
 /// The tet containing p (barycentric coordinates >= -1e-10), or nothing.
 std::optional<PointLocation> locate(const mesh::Mesh& mesh, const Vec3& p);
 
-double interpolate(const mesh::Mesh& mesh, const PointLocation& at, const std::vector<double>& field,
-                   int block, int component);
+double interpolate(const mesh::Mesh& mesh, const PointLocation& at,
+                   const std::vector<double>& field, int block, int component);
 
 /// Returns {||v_h - v||_L2, ||v||_L2} over the mesh for the vector made of components
 /// [first, first + count) of `field`, with the 4-point degree-2 rule on every tet.

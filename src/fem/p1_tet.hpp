@@ -39,7 +39,8 @@ inline Mat3 metric_tensor(const TetGeometry& g) {
   Mat3 G{};
   for (int k = 1; k < 4; ++k)
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) G[i][j] += g.grad[k][i] * g.grad[k][j];
+      for (int j = 0; j < 3; ++j)
+        G[i][j] += g.grad[k][i] * g.grad[k][j];
   return G;
 }
 

@@ -5,12 +5,15 @@ namespace tearflow::fem {
 PetscSession::PetscSession(int* argc, char*** argv) {
   PetscBool initialized = PETSC_FALSE;
   PetscInitialized(&initialized);
-  if (!initialized) TF_PETSC(PetscInitialize(argc, argv, nullptr, nullptr));
+  if (!initialized)
+    TF_PETSC(PetscInitialize(argc, argv, nullptr, nullptr));
   // Our own messages explain failures; PETSc's traceback on stderr would only repeat them.
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
 }
 
-PetscSession::~PetscSession() { PetscFinalize(); }
+PetscSession::~PetscSession() {
+  PetscFinalize();
+}
 
 int mpi_rank(MPI_Comm comm) {
   int r = 0;

@@ -13,12 +13,12 @@ namespace tearflow::fem {
 
 /// Turns a PETSc error code into a SolverError naming the call.
 inline void check(PetscErrorCode ierr, const char* what) {
-  if (ierr != 0) throw SolverError(std::string("PETSc call failed: ") + what);
+  if (ierr != 0)
+    throw SolverError(std::string("PETSc call failed: ") + what);
 }
 #define TF_PETSC(call) ::tearflow::fem::check((call), #call)
 
-template <typename Handle, PetscErrorCode (*Destroy)(Handle*)>
-class Owned {
+template <typename Handle, PetscErrorCode (*Destroy)(Handle*)> class Owned {
 public:
   Owned() = default;
   explicit Owned(Handle h) : h_(h) {}
@@ -34,7 +34,8 @@ public:
   }
   ~Owned() { reset(); }
   void reset() {
-    if (h_) Destroy(&h_);
+    if (h_)
+      Destroy(&h_);
     h_ = nullptr;
   }
   Handle get() const { return h_; }

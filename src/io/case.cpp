@@ -27,9 +27,12 @@ namespace fs = std::filesystem;
 mesh::PipeSpec read_pipe(const YamlValue& v) {
   v.check_keys({"radius", "length", "element_size"});
   mesh::PipeSpec pipe;
-  if (auto x = v.get("radius")) pipe.radius = x->positive();
-  if (auto x = v.get("length")) pipe.length = x->positive();
-  if (auto x = v.get("element_size")) pipe.element_size = x->positive();
+  if (auto x = v.get("radius"))
+    pipe.radius = x->positive();
+  if (auto x = v.get("length"))
+    pipe.length = x->positive();
+  if (auto x = v.get("element_size"))
+    pipe.element_size = x->positive();
   return pipe;
 }
 
@@ -37,7 +40,8 @@ MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
   v.check_keys({"file", "units", "pipe"});
   const auto file = v.get("file");
   const auto pipe = v.get("pipe");
-  if (file && pipe) pipe->fail("give either mesh.file or mesh.pipe, not both");
+  if (file && pipe)
+    pipe->fail("give either mesh.file or mesh.pipe, not both");
   if (!file && !pipe)
     v.fail("expected mesh.file (a Gmsh .msh file or a SimVascular mesh-complete directory) "
            "or mesh.pipe (the built-in pipe)");
@@ -54,7 +58,8 @@ MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
 
   spec.file = resolve_path(case_dir, file->text());
   std::error_code ec;
-  if (!fs::exists(spec.file, ec)) file->fail(fmt::format("mesh not found: {}", spec.file.string()));
+  if (!fs::exists(spec.file, ec))
+    file->fail(fmt::format("mesh not found: {}", spec.file.string()));
   if (fs::is_directory(spec.file, ec)) {
     const fs::path volume = spec.file / "mesh-complete.mesh.vtu";
     if (!fs::exists(volume, ec))
@@ -73,8 +78,10 @@ MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
 FluidSpec read_fluid(const YamlValue& v) {
   v.check_keys({"density", "viscosity"});
   FluidSpec fluid;
-  if (auto x = v.get("density")) fluid.density = x->positive();
-  if (auto x = v.get("viscosity")) fluid.viscosity = x->positive();
+  if (auto x = v.get("density"))
+    fluid.density = x->positive();
+  if (auto x = v.get("viscosity"))
+    fluid.viscosity = x->positive();
   return fluid;
 }
 
@@ -84,45 +91,56 @@ TimeSpec read_time(const YamlValue& v) {
   time.step = v.require("step", "the time step in seconds, a number > 0").positive();
   const auto steps = v.get("steps");
   const auto end = v.get("end");
-  if (steps && end) end->fail("give either time.steps or time.end, not both");
-  if (steps) time.steps = steps->integer(1);
+  if (steps && end)
+    end->fail("give either time.steps or time.end, not both");
+  if (steps)
+    time.steps = steps->integer(1);
   if (end) {
     const double t_end = end->positive();
     const double n = std::round(t_end / time.step);
     if (n < 1.0)
-      end->fail(fmt::format("time.end = {} s is shorter than half a time step ({} s)", t_end,
-                            time.step));
-    if (n > INT_MAX) end->fail(fmt::format("time.end / time.step = {} steps is too many", n));
+      end->fail(
+          fmt::format("time.end = {} s is shorter than half a time step ({} s)", t_end, time.step));
+    if (n > INT_MAX)
+      end->fail(fmt::format("time.end / time.step = {} steps is too many", n));
     time.steps = static_cast<int>(n);
     if (std::abs(n * time.step - t_end) > 1e-6 * time.step)
       spdlog::warn("{}: {} s is not a multiple of time.step = {} s; running {} steps, to t = {} s",
                    end->where(), t_end, time.step, time.steps, n * time.step);
   }
-  if (auto x = v.get("spectral_radius")) time.spectral_radius = x->in_range(0.0, 1.0);
+  if (auto x = v.get("spectral_radius"))
+    time.spectral_radius = x->in_range(0.0, 1.0);
   return time;
 }
 
 NewtonSpec read_newton(const YamlValue& v) {
   v.check_keys({"max_iterations", "rtol", "atol"});
   NewtonSpec newton;
-  if (auto x = v.get("max_iterations")) newton.max_iterations = x->integer(1);
-  if (auto x = v.get("rtol")) newton.rtol = x->positive();
-  if (auto x = v.get("atol")) newton.atol = x->positive();
+  if (auto x = v.get("max_iterations"))
+    newton.max_iterations = x->integer(1);
+  if (auto x = v.get("rtol"))
+    newton.rtol = x->positive();
+  if (auto x = v.get("atol"))
+    newton.atol = x->positive();
   return newton;
 }
 
 /// A string as is, a list of strings joined by spaces, or a mapping {option: value} written
 /// as "-option value" (a leading '-' added when missing; an empty value gives "-option").
 std::string read_petsc_options(const YamlValue& v) {
-  if (v.is_null()) return "";
-  if (v.is_scalar()) return v.text();
+  if (v.is_null())
+    return "";
+  if (v.is_scalar())
+    return v.text();
   std::vector<std::string> words;
   if (v.is_list()) {
-    for (const YamlValue& item : v.items()) words.push_back(item.text());
+    for (const YamlValue& item : v.items())
+      words.push_back(item.text());
   } else if (v.is_map()) {
     for (const auto& [key, value] : v.entries()) {
       words.push_back(key.starts_with('-') ? key : "-" + key);
-      if (!value.is_null()) words.push_back(value.text());
+      if (!value.is_null())
+        words.push_back(value.text());
     }
   } else {
     v.fail_expected("a string, a list of strings or a mapping {option: value}");
@@ -135,9 +153,12 @@ OutputSpec read_output(const std::optional<YamlValue>& v, const std::string& nam
   fs::path directory = fs::path("results") / name;
   if (v) {
     v->check_keys({"directory", "every", "checkpoint_every"});
-    if (auto x = v->get("directory")) directory = x->text();
-    if (auto x = v->get("every")) output.every = x->integer(0);
-    if (auto x = v->get("checkpoint_every")) output.checkpoint_every = x->integer(0);
+    if (auto x = v->get("directory"))
+      directory = x->text();
+    if (auto x = v->get("every"))
+      output.every = x->integer(0);
+    if (auto x = v->get("checkpoint_every"))
+      output.checkpoint_every = x->integer(0);
   }
   output.directory = fs::absolute(directory).lexically_normal();
   return output;
@@ -147,38 +168,45 @@ OutputSpec read_output(const std::optional<YamlValue>& v, const std::string& nam
 
 BcType read_bc_type(const YamlValue& v) {
   const std::string type = v.choice({"no_slip", "inflow", "pressure", "resistance"});
-  if (type == "inflow") return BcType::Inflow;
-  if (type == "pressure") return BcType::Pressure;
-  if (type == "resistance") return BcType::Resistance;
+  if (type == "inflow")
+    return BcType::Inflow;
+  if (type == "pressure")
+    return BcType::Pressure;
+  if (type == "resistance")
+    return BcType::Resistance;
   return BcType::NoSlip;
 }
 
 InflowProfile read_profile(const YamlValue& v) {
   const std::string profile = v.choice({"parabolic", "plug", "womersley"});
-  if (profile == "plug") return InflowProfile::Plug;
-  if (profile == "womersley") return InflowProfile::Womersley;
+  if (profile == "plug")
+    return InflowProfile::Plug;
+  if (profile == "womersley")
+    return InflowProfile::Womersley;
   return InflowProfile::Parabolic;
 }
 
 BoundaryCondition read_bc(const YamlValue& v, const fs::path& case_dir) {
-  if (!v.is_map()) v.fail_expected("a mapping with face, type and the type's keys");
+  if (!v.is_map())
+    v.fail_expected("a mapping with face, type and the type's keys");
   // First against every key any condition takes (to catch typos), then against the type's.
   v.check_keys({"face", "type", "flow", "units", "profile", "womersley_modes", "pressure",
                 "resistance", "backflow_beta"});
   BoundaryCondition bc;
   const YamlValue face = v.require("face", "the name of a mesh face");
   bc.face = face.text();
-  if (bc.face.empty()) face.fail_expected("the name of a mesh face");
+  if (bc.face.empty())
+    face.fail_expected("the name of a mesh face");
   const YamlValue type = v.require("type", "no_slip, inflow, pressure or resistance");
   bc.type = read_bc_type(type);
   const std::string reason = fmt::format("type: {}", type.text());
 
   switch (bc.type) {
   case BcType::NoSlip:
-    v.check_keys({"face", "type"},
-                 {"flow", "units", "profile", "womersley_modes", "pressure", "resistance",
-                  "backflow_beta"},
-                 reason);
+    v.check_keys(
+        {"face", "type"},
+        {"flow", "units", "profile", "womersley_modes", "pressure", "resistance", "backflow_beta"},
+        reason);
     break;
   case BcType::Inflow: {
     v.check_keys({"face", "type", "flow", "units", "profile", "womersley_modes"},
@@ -215,13 +243,15 @@ BoundaryCondition read_bc(const YamlValue& v, const fs::path& case_dir) {
         v.require("resistance", "the outlet resistance in Pa s/m^3, a number > 0").positive();
     break;
   }
-  if (auto beta = v.get("backflow_beta")) bc.backflow_beta = beta->non_negative();
+  if (auto beta = v.get("backflow_beta"))
+    bc.backflow_beta = beta->non_negative();
   return bc;
 }
 
 std::vector<BoundaryCondition> read_bcs(const YamlValue& v, const fs::path& case_dir) {
   const std::vector<YamlValue> items = v.items();
-  if (items.empty()) v.fail("expected at least one boundary condition");
+  if (items.empty())
+    v.fail("expected at least one boundary condition");
   std::vector<BoundaryCondition> bcs;
   std::map<std::string, YamlValue> first_use; // face -> its `face` key
   for (const YamlValue& item : items) {
@@ -236,7 +266,8 @@ std::vector<BoundaryCondition> read_bcs(const YamlValue& v, const fs::path& case
 }
 
 std::string read_name(const std::optional<YamlValue>& v, const fs::path& file) {
-  if (!v) return file.stem().string();
+  if (!v)
+    return file.stem().string();
   const std::string name = v->text();
   if (name.empty() || name.find_first_of("/\\") != std::string::npos)
     v->fail_expected("a non-empty name without '/' (it names the output folder)");
@@ -256,15 +287,17 @@ Case load_case(const fs::path& file) {
   Case c;
   c.file = fs::absolute(file).lexically_normal();
   c.name = read_name(root.get("name"), file);
-  c.mesh = read_mesh_spec(
-      root.require("mesh", "mesh.file (a mesh file or directory) or mesh.pipe"), case_dir);
-  if (auto fluid = root.get("fluid")) c.fluid = read_fluid(*fluid);
+  c.mesh = read_mesh_spec(root.require("mesh", "mesh.file (a mesh file or directory) or mesh.pipe"),
+                          case_dir);
+  if (auto fluid = root.get("fluid"))
+    c.fluid = read_fluid(*fluid);
   c.time = read_time(root.require("time", "a mapping with at least time.step"));
   c.boundary_conditions = read_bcs(
-      root.require("boundary_conditions", "a list of {face: ..., type: ...} mappings"),
-      case_dir);
-  if (auto newton = root.get("newton")) c.newton = read_newton(*newton);
-  if (auto petsc = root.get("petsc_options")) c.petsc_options = read_petsc_options(*petsc);
+      root.require("boundary_conditions", "a list of {face: ..., type: ...} mappings"), case_dir);
+  if (auto newton = root.get("newton"))
+    c.newton = read_newton(*newton);
+  if (auto petsc = root.get("petsc_options"))
+    c.petsc_options = read_petsc_options(*petsc);
   c.output = read_output(root.get("output"), c.name);
   return c;
 }
@@ -272,7 +305,8 @@ Case load_case(const fs::path& file) {
 void check_case_against_mesh(const Case& c, const mesh::Mesh& m) {
   const std::string source = c.file.empty() ? fmt::format("case '{}'", c.name) : c.file.string();
   std::vector<std::string> face_names;
-  for (const mesh::Face& f : m.faces) face_names.push_back(f.name);
+  for (const mesh::Face& f : m.faces)
+    face_names.push_back(f.name);
 
   std::map<std::string, size_t> used; // face -> index of its condition
   for (size_t i = 0; i < c.boundary_conditions.size(); ++i) {
@@ -292,7 +326,8 @@ void check_case_against_mesh(const Case& c, const mesh::Mesh& m) {
   }
   std::vector<std::string> unused;
   for (const std::string& name : face_names)
-    if (!used.contains(name)) unused.push_back(name);
+    if (!used.contains(name))
+      unused.push_back(name);
   if (!unused.empty())
     spdlog::warn("{}: mesh faces without a boundary condition are no-slip walls: {}", source,
                  join_names(unused, "and"));

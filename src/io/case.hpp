@@ -14,9 +14,9 @@
 namespace tearflow::io {
 
 struct MeshSpec {
-  std::filesystem::path file;          ///< .msh or SimVascular directory (absolute), or empty
-  double length_scale = 1.0;           ///< metres per mesh unit (`units: mm` gives 1e-3)
-  std::optional<mesh::PipeSpec> pipe;  ///< built-in pipe instead of a file
+  std::filesystem::path file;         ///< .msh or SimVascular directory (absolute), or empty
+  double length_scale = 1.0;          ///< metres per mesh unit (`units: mm` gives 1e-3)
+  std::optional<mesh::PipeSpec> pipe; ///< built-in pipe instead of a file
 };
 
 struct FluidSpec {
@@ -25,9 +25,9 @@ struct FluidSpec {
 };
 
 struct TimeSpec {
-  double step = 1e-3;            ///< [s]
-  int steps = 100;               ///< number of time steps
-  double spectral_radius = 0.5;  ///< rho_inf of generalized-alpha, in [0, 1]
+  double step = 1e-3;           ///< [s]
+  int steps = 100;              ///< number of time steps
+  double spectral_radius = 0.5; ///< rho_inf of generalized-alpha, in [0, 1]
 };
 
 enum class BcType { NoSlip, Inflow, Pressure, Resistance };
@@ -50,25 +50,25 @@ struct BoundaryCondition {
 
 struct NewtonSpec {
   int max_iterations = 10;
-  double rtol = 1e-6; ///< stop when ||R|| <= rtol ||R_0|| ...
-  double atol = 1e-10;///< ... or ||R|| <= atol
+  double rtol = 1e-6;  ///< stop when ||R|| <= rtol ||R_0|| ...
+  double atol = 1e-10; ///< ... or ||R|| <= atol
 };
 
 struct OutputSpec {
-  std::filesystem::path directory;  ///< absolute; default `results/<name>` under the cwd
-  int every = 10;                   ///< save a VTU every n steps (0: only the last)
-  int checkpoint_every = 0;         ///< 0: no checkpoints
+  std::filesystem::path directory; ///< absolute; default `results/<name>` under the cwd
+  int every = 10;                  ///< save a VTU every n steps (0: only the last)
+  int checkpoint_every = 0;        ///< 0: no checkpoints
 };
 
 struct Case {
   std::string name = "case";
-  std::filesystem::path file;        ///< the case file, empty for built-in cases
+  std::filesystem::path file; ///< the case file, empty for built-in cases
   MeshSpec mesh;
   FluidSpec fluid;
   TimeSpec time;
   std::vector<BoundaryCondition> boundary_conditions;
   NewtonSpec newton;
-  std::string petsc_options;         ///< passed to PETSc's options database as is
+  std::string petsc_options; ///< passed to PETSc's options database as is
   OutputSpec output;
 };
 

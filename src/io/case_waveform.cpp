@@ -16,14 +16,14 @@ double value_scale(const std::optional<YamlValue>& units, const Quantity& q) {
 }
 
 double time_scale(const std::optional<YamlValue>& time_units) {
-  if (!time_units) return 1.0;
+  if (!time_units)
+    return 1.0;
   return time_units->choice({"s", "ms"}) == "s" ? 1.0 : 1e-3;
 }
 
 /// Runs a waveform file reader; its errors (which name the waveform file and its line) are
 /// prefixed with the case file's position of the `file` key.
-template <typename Read>
-bc::Waveform read_waveform_file(const YamlValue& key, Read read) {
+template <typename Read> bc::Waveform read_waveform_file(const YamlValue& key, Read read) {
   try {
     return read();
   } catch (const InputError& e) {
@@ -56,8 +56,7 @@ bc::Waveform read_waveform_from_file(const YamlValue& v, const Quantity& q,
   const double ts = time_scale(v.get("time_units"));
   // Without a period, the last sample closes it (read_waveform_csv's period 0).
   const double period = v.has("period") ? v.get("period")->positive() * ts : 0.0;
-  return read_waveform_file(file,
-                            [&] { return bc::read_waveform_csv(path, ts, scale, period); });
+  return read_waveform_file(file, [&] { return bc::read_waveform_csv(path, ts, scale, period); });
 }
 
 bc::Waveform read_waveform_samples(const YamlValue& v, const Quantity& q) {
@@ -68,14 +67,16 @@ bc::Waveform read_waveform_samples(const YamlValue& v, const Quantity& q) {
   std::vector<double> t = times.numbers();
   std::vector<double> x = values.numbers();
   if (x.size() != t.size())
-    values.fail(fmt::format("{} values for {} times; expected one value per time", x.size(),
-                            t.size()));
+    values.fail(
+        fmt::format("{} values for {} times; expected one value per time", x.size(), t.size()));
   const double ts = time_scale(v.get("time_units"));
   const double scale = value_scale(v.get("units"), q);
-  for (double& ti : t) ti *= ts;
-  for (double& xi : x) xi *= scale;
+  for (double& ti : t)
+    ti *= ts;
+  for (double& xi : x)
+    xi *= scale;
   // Without a period, the last sample closes it.
-  const double period = v.has("period")  ? v.get("period")->positive() * ts
+  const double period = v.has("period") ? v.get("period")->positive() * ts
                         : t.size() >= 2 ? t.back() - t.front()
                                         : 0.0;
   return bc::Waveform::periodic(std::move(t), std::move(x), period, v.where());
@@ -88,7 +89,8 @@ const Quantity kPressure{"pressure", "Pa", units::pressure_scale};
 
 bc::Waveform read_case_waveform(const YamlValue& v, const std::optional<YamlValue>& sibling_units,
                                 const Quantity& q, const fs::path& case_dir) {
-  if (v.is_scalar()) return bc::Waveform::constant(v.number() * value_scale(sibling_units, q));
+  if (v.is_scalar())
+    return bc::Waveform::constant(v.number() * value_scale(sibling_units, q));
   if (!v.is_map())
     v.fail_expected(fmt::format("a constant {} (a number), or a mapping with file or "
                                 "times/values",
@@ -106,7 +108,8 @@ bc::Waveform read_case_waveform(const YamlValue& v, const std::optional<YamlValu
   double sign = 1.0;
   if (auto s = v.get("sign")) {
     sign = s->number();
-    if (sign != 1.0 && sign != -1.0) s->fail_expected("1 or -1");
+    if (sign != 1.0 && sign != -1.0)
+      s->fail_expected("1 or -1");
   }
   const bc::Waveform w =
       v.has("file") ? read_waveform_from_file(v, q, case_dir) : read_waveform_samples(v, q);

@@ -28,8 +28,10 @@ std::string lower(std::string_view s) {
 /// two adjacent characters each cost 1.
 size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
-  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 0; i <= a.size(); ++i)
+    d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j)
+    d[0][j] = j;
   for (size_t i = 1; i <= a.size(); ++i) {
     for (size_t j = 1; j <= b.size(); ++j) {
       const size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
@@ -52,7 +54,8 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
 
 /// A finite number written in full (YAML's plain decimal and exponent forms), else nullopt.
 std::optional<double> parse_double(std::string_view s) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  if (!s.empty() && s.front() == '+')
+    s.remove_prefix(1);
   double x = 0.0;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), x);
   if (s.empty() || ec != std::errc() || end != s.data() + s.size() || !std::isfinite(x))
@@ -84,15 +87,15 @@ std::string nearest_name(std::string_view word, const std::vector<std::string>& 
 }
 
 std::string join_names(const std::vector<std::string>& names, std::string_view last) {
-  if (names.empty()) return "(none)";
+  if (names.empty())
+    return "(none)";
   std::string out = names.front();
   for (size_t i = 1; i < names.size(); ++i)
     out += (i + 1 == names.size() ? fmt::format(" {} ", last) : std::string(", ")) + names[i];
   return out;
 }
 
-std::filesystem::path resolve_path(const std::filesystem::path& dir,
-                                   const std::string& written) {
+std::filesystem::path resolve_path(const std::filesystem::path& dir, const std::string& written) {
   const std::filesystem::path p(written);
   return (p.is_absolute() ? p : dir / p).lexically_normal();
 }
@@ -108,7 +111,8 @@ YAML::Node parse_yaml_file(const std::filesystem::path& file) {
   std::ifstream in(file);
   std::stringstream text;
   text << in.rdbuf();
-  if (!in) input_error("{}: cannot read the case file", file.string());
+  if (!in)
+    input_error("{}: cannot read the case file", file.string());
   try {
     return YAML::Load(text.str());
   } catch (const YAML::Exception& e) {
@@ -121,8 +125,7 @@ YAML::Node parse_yaml_file(const std::filesystem::path& file) {
 // ------------------------------------------------------------------------------------------
 
 YamlValue::YamlValue(std::string file, YAML::Node root)
-    : YamlValue(std::make_shared<const std::string>(std::move(file)), root, "",
-                line_of(root, 1)) {}
+    : YamlValue(std::make_shared<const std::string>(std::move(file)), root, "", line_of(root, 1)) {}
 
 YamlValue::YamlValue(std::shared_ptr<const std::string> file, YAML::Node node, std::string path,
                      int line)
@@ -142,17 +145,22 @@ void YamlValue::fail_expected(std::string_view expected) const {
 }
 
 std::string YamlValue::describe() const {
-  if (node_.IsScalar()) return fmt::format("'{}'", node_.Scalar());
-  if (node_.IsMap()) return "a mapping";
-  if (node_.IsSequence()) return "a list";
+  if (node_.IsScalar())
+    return fmt::format("'{}'", node_.Scalar());
+  if (node_.IsMap())
+    return "a mapping";
+  if (node_.IsSequence())
+    return "a list";
   return "nothing";
 }
 
 // --- mappings ---
 
 std::vector<std::pair<std::string, YamlValue>> YamlValue::entries() const {
-  if (node_.IsNull()) return {};
-  if (!node_.IsMap()) fail_expected("a mapping (key: value lines)");
+  if (node_.IsNull())
+    return {};
+  if (!node_.IsMap())
+    fail_expected("a mapping (key: value lines)");
   std::vector<std::pair<std::string, YamlValue>> out;
   for (auto it = node_.begin(); it != node_.end(); ++it) {
     const int key_line = line_of(it->first, line_);
@@ -174,27 +182,31 @@ void YamlValue::check_keys(std::initializer_list<std::string_view> allowed,
                            std::string_view elsewhere_reason) const {
   const std::vector<std::string> names = to_strings(allowed);
   for (const auto& [key, value] : entries()) {
-    if (std::find(names.begin(), names.end(), key) != names.end()) continue;
+    if (std::find(names.begin(), names.end(), key) != names.end())
+      continue;
     if (std::find(elsewhere.begin(), elsewhere.end(), key) != elsewhere.end())
       value.fail(fmt::format("key '{}' does not apply here ({}); allowed keys: {}", key,
                              elsewhere_reason, fmt::join(names, ", ")));
-    value.fail(fmt::format("unknown key '{}'{}; allowed keys{}: {}", key,
-                           did_you_mean(key, names),
+    value.fail(fmt::format("unknown key '{}'{}; allowed keys{}: {}", key, did_you_mean(key, names),
                            path_.empty() ? " at the top level" : " in " + path_,
                            fmt::join(names, ", ")));
   }
 }
 
-bool YamlValue::has(std::string_view key) const { return get(key).has_value(); }
+bool YamlValue::has(std::string_view key) const {
+  return get(key).has_value();
+}
 
 std::optional<YamlValue> YamlValue::get(std::string_view key) const {
   for (auto& [k, value] : entries())
-    if (k == key) return value;
+    if (k == key)
+      return value;
   return std::nullopt;
 }
 
 YamlValue YamlValue::require(std::string_view key, std::string_view expected) const {
-  if (auto value = get(key)) return *value;
+  if (auto value = get(key))
+    return *value;
   const std::string path = path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
   YamlValue(file_, YAML::Node(), path, line_)
       .fail(fmt::format("required key '{}' is missing; expected {}", key, expected));
@@ -203,7 +215,8 @@ YamlValue YamlValue::require(std::string_view key, std::string_view expected) co
 // --- lists ---
 
 std::vector<YamlValue> YamlValue::items() const {
-  if (!node_.IsSequence()) fail_expected("a list (lines starting with '- ', or [a, b])");
+  if (!node_.IsSequence())
+    fail_expected("a list (lines starting with '- ', or [a, b])");
   std::vector<YamlValue> out;
   for (size_t i = 0; i < node_.size(); ++i) {
     const YAML::Node item = node_[i];
@@ -217,7 +230,8 @@ std::vector<YamlValue> YamlValue::items() const {
 // --- scalars ---
 
 std::optional<double> YamlValue::parse_number() const {
-  if (!node_.IsScalar()) return std::nullopt;
+  if (!node_.IsScalar())
+    return std::nullopt;
   // Quoted scalars ("1060") are strings in YAML; explicit !!int / !!float tags are numbers.
   const std::string& tag = node_.Tag();
   if (tag != "?" && tag != "tag:yaml.org,2002:float" && tag != "tag:yaml.org,2002:int")
@@ -233,25 +247,29 @@ void YamlValue::fail_number(std::string_view expected) const {
 }
 
 double YamlValue::number() const {
-  if (auto x = parse_number()) return *x;
+  if (auto x = parse_number())
+    return *x;
   fail_number("a number");
 }
 
 double YamlValue::positive() const {
   const auto x = parse_number();
-  if (!x || !(*x > 0.0)) fail_number("a number > 0");
+  if (!x || !(*x > 0.0))
+    fail_number("a number > 0");
   return *x;
 }
 
 double YamlValue::non_negative() const {
   const auto x = parse_number();
-  if (!x || !(*x >= 0.0)) fail_number("a number >= 0");
+  if (!x || !(*x >= 0.0))
+    fail_number("a number >= 0");
   return *x;
 }
 
 double YamlValue::in_range(double lo, double hi) const {
   const auto x = parse_number();
-  if (!x || *x < lo || *x > hi) fail_number(fmt::format("a number in [{}, {}]", lo, hi));
+  if (!x || *x < lo || *x > hi)
+    fail_number(fmt::format("a number in [{}, {}]", lo, hi));
   return *x;
 }
 
@@ -263,7 +281,8 @@ int YamlValue::integer(int min) const {
 }
 
 std::string YamlValue::text() const {
-  if (!node_.IsScalar()) fail_expected("a string");
+  if (!node_.IsScalar())
+    fail_expected("a string");
   return node_.Scalar();
 }
 
@@ -272,15 +291,18 @@ std::string YamlValue::choice(std::initializer_list<std::string_view> choices) c
   if (!node_.IsScalar())
     fail_expected(fmt::format("one of {}", join_names(names)));
   const std::string s = node_.Scalar();
-  if (std::find(names.begin(), names.end(), s) != names.end()) return s;
+  if (std::find(names.begin(), names.end(), s) != names.end())
+    return s;
   fail(fmt::format("unknown value '{}'{}; expected one of {}", s, did_you_mean(s, names),
                    join_names(names)));
 }
 
 std::vector<double> YamlValue::numbers() const {
-  if (!node_.IsSequence()) fail_expected("a list of numbers, like [0, 0.5, 1]");
+  if (!node_.IsSequence())
+    fail_expected("a list of numbers, like [0, 0.5, 1]");
   std::vector<double> out;
-  for (const YamlValue& item : items()) out.push_back(item.number());
+  for (const YamlValue& item : items())
+    out.push_back(item.number());
   return out;
 }
 

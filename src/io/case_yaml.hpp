@@ -67,22 +67,21 @@ public:
   std::vector<YamlValue> items() const; ///< fails unless this is a list
 
   // --- scalars ---
-  double number() const;                               ///< any finite number
-  double positive() const;                             ///< > 0
-  double non_negative() const;                         ///< >= 0
-  double in_range(double lo, double hi) const;         ///< in [lo, hi]
-  int integer(int min) const;                          ///< an integer >= min
-  std::string text() const;                            ///< any scalar, as written
+  double number() const;                       ///< any finite number
+  double positive() const;                     ///< > 0
+  double non_negative() const;                 ///< >= 0
+  double in_range(double lo, double hi) const; ///< in [lo, hi]
+  int integer(int min) const;                  ///< an integer >= min
+  std::string text() const;                    ///< any scalar, as written
   /// One of `choices` (exact spelling); otherwise fails listing them and the nearest one.
   std::string choice(std::initializer_list<std::string_view> choices) const;
-  std::vector<double> numbers() const;                 ///< a list of finite numbers
+  std::vector<double> numbers() const; ///< a list of finite numbers
 
   /// How the node reads in a message: 'text', a mapping, a list, nothing.
   std::string describe() const;
 
 private:
-  YamlValue(std::shared_ptr<const std::string> file, YAML::Node node, std::string path,
-            int line);
+  YamlValue(std::shared_ptr<const std::string> file, YAML::Node node, std::string path, int line);
   std::optional<double> parse_number() const;
   /// fail_expected, with a hint when the value is a quoted string.
   [[noreturn]] void fail_number(std::string_view expected) const;

@@ -12,23 +12,22 @@ namespace tearflow::io {
 namespace {
 constexpr char magic[8] = {'T', 'F', 'C', 'K', 'P', 'T', '0', '1'};
 
-template <typename T>
-void put(std::ofstream& out, const T& v) {
+template <typename T> void put(std::ofstream& out, const T& v) {
   out.write(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 void put_vector(std::ofstream& out, const std::vector<double>& v) {
   put(out, static_cast<std::int64_t>(v.size()));
   out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * 8));
 }
-template <typename T>
-void get(std::ifstream& in, T& v, const std::filesystem::path& file) {
+template <typename T> void get(std::ifstream& in, T& v, const std::filesystem::path& file) {
   if (!in.read(reinterpret_cast<char*>(&v), sizeof(T)))
     input_error("checkpoint '{}' is truncated", file.string());
 }
 void get_vector(std::ifstream& in, std::vector<double>& v, const std::filesystem::path& file) {
   std::int64_t n = 0;
   get(in, n, file);
-  if (n < 0 || n > (std::int64_t{1} << 34)) input_error("checkpoint '{}' is corrupt", file.string());
+  if (n < 0 || n > (std::int64_t{1} << 34))
+    input_error("checkpoint '{}' is corrupt", file.string());
   v.resize(static_cast<size_t>(n));
   if (!in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * 8)))
     input_error("checkpoint '{}' is truncated", file.string());
@@ -48,14 +47,16 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint& c) {
     put_vector(out, c.derivative);
     put_vector(out, c.extra);
     out.flush();
-    if (!out) input_error("cannot write checkpoint '{}'", tmp.string());
+    if (!out)
+      input_error("cannot write checkpoint '{}'", tmp.string());
   }
   std::filesystem::rename(tmp, file); // atomic on POSIX: the old checkpoint stays until now
 }
 
 Checkpoint read_checkpoint(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) input_error("no checkpoint '{}' to restart from", file.string());
+  if (!in)
+    input_error("no checkpoint '{}' to restart from", file.string());
   char m[8];
   if (!in.read(m, sizeof m) || std::memcmp(m, magic, sizeof m) != 0)
     input_error("'{}' is not a tearflow checkpoint", file.string());

@@ -21,7 +21,8 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
   {
     std::ofstream out(tmp, std::ios::binary);
     out << text;
-    if (!out) throw InputError(fmt::format("cannot write '{}'", tmp.string()));
+    if (!out)
+      throw InputError(fmt::format("cannot write '{}'", tmp.string()));
   }
   std::filesystem::rename(tmp, path);
 }
@@ -81,12 +82,14 @@ void VtuSeries::write_pvd() const {
 void VtuSeries::load_existing() {
   frames_.clear();
   std::ifstream in(directory_ / (stem_ + ".pvd"));
-  if (!in) return;
+  if (!in)
+    return;
   const std::regex entry(R"re(timestep="([^"]+)".*file="([^"]+)")re");
   std::string line;
   std::smatch m;
   while (std::getline(in, line))
-    if (std::regex_search(line, m, entry)) frames_.emplace_back(std::stod(m[1]), m[2]);
+    if (std::regex_search(line, m, entry))
+      frames_.emplace_back(std::stod(m[1]), m[2]);
 }
 
 void VtuSeries::truncate_after(double time) {

@@ -17,12 +17,12 @@ struct Face {
 };
 
 struct Mesh {
-  std::vector<Vec3> points;        ///< node coordinates [m]
-  std::vector<Tet> tets;           ///< positively oriented (det J > 0) node quadruples
-  std::vector<int> tet_region;     ///< per tet, an index into `regions`
-  std::vector<std::string> regions;///< volume region names, e.g. "fluid", "wall"
-  std::vector<Face> faces;         ///< named boundary faces
-  std::string source;              ///< where it came from, for messages
+  std::vector<Vec3> points;         ///< node coordinates [m]
+  std::vector<Tet> tets;            ///< positively oriented (det J > 0) node quadruples
+  std::vector<int> tet_region;      ///< per tet, an index into `regions`
+  std::vector<std::string> regions; ///< volume region names, e.g. "fluid", "wall"
+  std::vector<Face> faces;          ///< named boundary faces
+  std::string source;               ///< where it came from, for messages
 
   Index num_nodes() const { return static_cast<Index>(points.size()); }
   Index num_tets() const { return static_cast<Index>(tets.size()); }

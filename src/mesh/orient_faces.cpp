@@ -35,7 +35,8 @@ void orient_faces_outward(Mesh& mesh) {
       std::sort(t.begin(), t.end());
       auto [lo, hi] = wanted.equal_range(key(t));
       for (auto it = lo; it != hi; ++it)
-        if (it->second.sorted == t) it->second.opposite = tet[k];
+        if (it->second.sorted == t)
+          it->second.opposite = tet[k];
     }
   for (Face& f : mesh.faces)
     for (Tri& t : f.triangles) {
@@ -44,13 +45,15 @@ void orient_faces_outward(Mesh& mesh) {
       Index opposite = -1;
       auto [lo, hi] = wanted.equal_range(key(s));
       for (auto it = lo; it != hi; ++it)
-        if (it->second.sorted == s) opposite = it->second.opposite;
+        if (it->second.sorted == s)
+          opposite = it->second.opposite;
       if (opposite < 0)
         input_error("{}: a triangle of face '{}' (nodes {} {} {}) bounds no tetrahedron",
                     mesh.source, f.name, t[0], t[1], t[2]);
       const Vec3& a = mesh.points[t[0]];
       const Vec3 n = cross(mesh.points[t[1]] - a, mesh.points[t[2]] - a);
-      if (dot(n, mesh.points[opposite] - a) > 0.0) std::swap(t[1], t[2]);
+      if (dot(n, mesh.points[opposite] - a) > 0.0)
+        std::swap(t[1], t[2]);
     }
 }
 

@@ -34,7 +34,8 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
   // Dirichlet flags on every local node, from the replicated faces, so that all ranks agree
   // on which rows are skipped. No-slip wins over inflow on the inlet's rim.
   std::vector<Index> orig_to_local(mesh.num_nodes(), -1);
-  for (Index l = 0; l < dmesh.num_local(); ++l) orig_to_local[dmesh.original_index(l)] = l;
+  for (Index l = 0; l < dmesh.num_local(); ++l)
+    orig_to_local[dmesh.original_index(l)] = l;
   dirichlet_.assign(n_local, 0);
   std::vector<std::uint8_t> is_wall(n_local, 0);
   for (const std::string& name : conditions_.walls)
@@ -49,11 +50,13 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
     for (size_t k = 0; k < nodes.size(); ++k)
       if (Index l = orig_to_local[nodes[k]]; l >= 0 && !is_wall[l]) {
         dirichlet_[l] = all_velocity;
-        if (l < dmesh.num_owned()) inflow_nodes_.push_back({l, i, k});
+        if (l < dmesh.num_owned())
+          inflow_nodes_.push_back({l, i, k});
       }
   }
   for (Index l = 0; l < dmesh.num_owned(); ++l)
-    if (is_wall[l]) wall_nodes_.push_back(l);
+    if (is_wall[l])
+      wall_nodes_.push_back(l);
 
   // Outlets: v_ai = int N_a n_i over this rank's triangles, summed into the global vector.
   for (const bc::TractionOutlet& spec : conditions_.outlets) {
@@ -72,7 +75,8 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
                                  area, n);
         for (Index l : t)
           for (int c = 0; c < 3; ++c)
-            if (!((dirichlet_[l] >> c) & 1)) v[block * l + c] += area / 3.0 * n[c];
+            if (!((dirichlet_[l] >> c) & 1))
+              v[block * l + c] += area / 3.0 * n[c];
       }
     }
     dofs_.add_local_to_global(v_loc, o.v);
@@ -98,7 +102,8 @@ void FluidProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
   for (size_t e = 0; e < tets.size(); ++e) {
     Vec3 mean{};
     for (Index l : tets[e])
-      for (int c = 0; c < 3; ++c) mean[c] += 0.25 * un[block * l + c];
+      for (int c = 0; c < 3; ++c)
+        mean[c] += 0.25 * un[block * l + c];
     stab_[e] = stabilization(geometry_[e], mean, fluid_, dt);
   }
 }
@@ -107,10 +112,12 @@ void FluidProblem::apply_dirichlet(Vec U) const {
   const double t = t_n_ + dt_;
   fem::WriteArray u(U);
   for (Index l : wall_nodes_)
-    for (int c = 0; c < 3; ++c) u[block * l + c] = 0.0;
+    for (int c = 0; c < 3; ++c)
+      u[block * l + c] = 0.0;
   for (const InflowNode& n : inflow_nodes_) {
     const Vec3 g = conditions_.inflows[n.inflow].velocity(n.k, t);
-    for (int c = 0; c < 3; ++c) u[block * n.local + c] = g[c];
+    for (int c = 0; c < 3; ++c)
+      u[block * n.local + c] = g[c];
   }
 }
 
@@ -165,7 +172,8 @@ void FluidProblem::residual(Vec U, Vec R) {
       }
       navier_stokes_residual(geometry_[e], s, stab_[e], fluid_, Re);
       for (int a = 0; a < 4; ++a)
-        for (int c = 0; c < block; ++c) r[block * t[a] + c] += Re[block * a + c];
+        for (int c = 0; c < block; ++c)
+          r[block * t[a] + c] += Re[block * a + c];
     }
 
     // Outlets: -<w, h> = +int N_a P n_i - beta rho int N_a (u.n)_- u_i, the backflow term by
@@ -179,15 +187,19 @@ void FluidProblem::residual(Vec U, Vec R) {
         Vec3 n;
         bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
         for (int a = 0; a < 3; ++a)
-          for (int c = 0; c < 3; ++c) r[block * t[a] + c] += area / 3.0 * P * n[c];
-        if (bf == 0.0) continue;
+          for (int c = 0; c < 3; ++c)
+            r[block * t[a] + c] += area / 3.0 * P * n[c];
+        if (bf == 0.0)
+          continue;
         for (int q = 0; q < 3; ++q) { // midpoint of edge (q, q+1)
           const int a0 = q, a1 = (q + 1) % 3;
           const Vec3 uq = 0.5 * (u_af_[t[a0]] + u_af_[t[a1]]);
           const double un = dot(uq, n);
-          if (un >= 0.0) continue;
+          if (un >= 0.0)
+            continue;
           for (int a : {a0, a1})
-            for (int c = 0; c < 3; ++c) r[block * t[a] + c] -= bf * area / 3.0 * 0.5 * un * uq[c];
+            for (int c = 0; c < 3; ++c)
+              r[block * t[a] + c] -= bf * area / 3.0 * 0.5 * un * uq[c];
         }
       }
     }
@@ -200,10 +212,12 @@ void FluidProblem::residual(Vec U, Vec R) {
   fem::WriteArray r(R);
   fem::ReadArray u(U);
   for (Index l : wall_nodes_)
-    for (int c = 0; c < 3; ++c) r[block * l + c] = u[block * l + c];
+    for (int c = 0; c < 3; ++c)
+      r[block * l + c] = u[block * l + c];
   for (const InflowNode& nd : inflow_nodes_) {
     const Vec3 g = conditions_.inflows[nd.inflow].velocity(nd.k, t);
-    for (int c = 0; c < 3; ++c) r[block * nd.local + c] = u[block * nd.local + c] - g[c];
+    for (int c = 0; c < 3; ++c)
+      r[block * nd.local + c] = u[block * nd.local + c] - g[c];
   }
 }
 
@@ -235,7 +249,8 @@ void FluidProblem::jacobian(Vec U, Mat J) {
   const auto& x = dmesh_.points();
   for (const OutletData& o : outlets_) {
     const double bf = o.spec.backflow_beta * fluid_.density;
-    if (bf == 0.0) continue;
+    if (bf == 0.0)
+      continue;
     for (const Tri& t : dmesh_.faces()[o.face_index].triangles) {
       double area;
       Vec3 n;
@@ -246,7 +261,8 @@ void FluidProblem::jacobian(Vec U, Mat J) {
         const int a0 = q, a1 = (q + 1) % 3;
         const Vec3 uq = 0.5 * (u_af_[t[a0]] + u_af_[t[a1]]);
         const double un = dot(uq, n);
-        if (un >= 0.0) continue;
+        if (un >= 0.0)
+          continue;
         any = true;
         for (int a : {a0, a1})
           for (int d : {a0, a1})
@@ -255,7 +271,8 @@ void FluidProblem::jacobian(Vec U, Mat J) {
                 Kb[3 * a + i][3 * d + k] -=
                     bf * c_u * area / 3.0 * 0.25 * (n[k] * uq[i] + (i == k ? un : 0.0));
       }
-      if (!any) continue;
+      if (!any)
+        continue;
       std::array<PetscInt, 9> brows, bcols;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) {
@@ -278,7 +295,8 @@ void FluidProblem::jacobian(Vec U, Mat J) {
 
 void FluidProblem::add_coupled_outlets(Vec x, Vec y) const {
   for (const OutletData& o : outlets_) {
-    if (o.spec.resistance == 0.0) continue;
+    if (o.spec.resistance == 0.0)
+      continue;
     PetscScalar vx;
     TF_PETSC(VecDot(o.v, x, &vx));
     TF_PETSC(VecAXPY(y, o.spec.resistance * scheme_.c_u() * vx, o.v));
@@ -309,7 +327,8 @@ std::vector<FaceMeasure> FluidProblem::measure_faces(Vec U) const {
       bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
       area_sum += area;
       for (Index l : t) {
-        flow += area / 3.0 * (u[block * l] * n[0] + u[block * l + 1] * n[1] + u[block * l + 2] * n[2]);
+        flow +=
+            area / 3.0 * (u[block * l] * n[0] + u[block * l + 1] * n[1] + u[block * l + 2] * n[2]);
         pressure += area / 3.0 * u[block * l + 3];
       }
     }
@@ -319,8 +338,8 @@ std::vector<FaceMeasure> FluidProblem::measure_faces(Vec U) const {
                 dmesh_.comm());
   std::vector<FaceMeasure> out;
   for (size_t i = 0; i < dmesh_.faces().size(); ++i)
-    out.push_back({dmesh_.faces()[i].name, sums[3 * i], sums[3 * i + 1] / sums[3 * i + 2],
-                   sums[3 * i + 2]});
+    out.push_back(
+        {dmesh_.faces()[i].name, sums[3 * i], sums[3 * i + 1] / sums[3 * i + 2], sums[3 * i + 2]});
   return out;
 }
 

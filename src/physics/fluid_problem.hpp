@@ -58,8 +58,8 @@ private:
     double flux = 0.0;
   };
 
-  void stage(Vec U);                   ///< local U -> u_af, udot_am, p per local node
-  void update_outlet_fluxes();         ///< Q of every outlet from u_af (collective)
+  void stage(Vec U);           ///< local U -> u_af, udot_am, p per local node
+  void update_outlet_fluxes(); ///< Q of every outlet from u_af (collective)
   double outlet_pressure(const OutletData& o) const;
 
   const fem::DistributedMesh& dmesh_;
@@ -76,8 +76,8 @@ private:
     Index local;
     size_t inflow, k;
   };
-  std::vector<InflowNode> inflow_nodes_;   ///< owned inflow nodes (not on a wall)
-  std::vector<Index> wall_nodes_;          ///< owned no-slip nodes
+  std::vector<InflowNode> inflow_nodes_; ///< owned inflow nodes (not on a wall)
+  std::vector<Index> wall_nodes_;        ///< owned no-slip nodes
   std::vector<OutletData> outlets_;
 
   fem::OwnedVec U_loc_, R_loc_, Un_loc_, Udotn_loc_;

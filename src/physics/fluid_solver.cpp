@@ -11,8 +11,7 @@ namespace tearflow::physics {
 namespace {
 /// Errors thrown inside PETSc callbacks must not cross PETSc's C frames: they are stored
 /// and re-thrown once SNESSolve has returned.
-template <typename F>
-PetscErrorCode guarded(std::string& error, F&& f) {
+template <typename F> PetscErrorCode guarded(std::string& error, F&& f) {
   try {
     f();
     return 0;
@@ -35,8 +34,7 @@ std::vector<std::pair<const char*, const char*>> default_fluid_options() {
 }
 } // namespace
 
-FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton)
-    : problem_(problem) {
+FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton) : problem_(problem) {
   const fem::DofMap& dofs = problem.dofs();
   U_ = dofs.create_global();
   Udot_ = dofs.create_global();
@@ -63,8 +61,8 @@ FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton)
   TF_PETSC(SNESCreate(comm, snes_.out()));
   TF_PETSC(SNESSetOptionsPrefix(snes_, "fluid_"));
   TF_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
-  TF_PETSC(SNESSetJacobian(snes_, has_coupled_outlets_ ? J_.get() : P_.get(), P_, form_jacobian,
-                           this));
+  TF_PETSC(
+      SNESSetJacobian(snes_, has_coupled_outlets_ ? J_.get() : P_.get(), P_, form_jacobian, this));
   TF_PETSC(SNESSetType(snes_, SNESNEWTONLS));
   SNESLineSearch ls;
   TF_PETSC(SNESGetLineSearch(snes_, &ls));

@@ -24,7 +24,7 @@ public:
   FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton);
 
   /// Starts from rest (U = 0, Udot = 0) unless the caller overwrites state().
-  Vec solution() const { return U_; }      ///< (u, p) at the current time
+  Vec solution() const { return U_; } ///< (u, p) at the current time
   Vec acceleration() const { return Udot_; }
 
   /// One step t -> t + dt. Throws SolverError naming the step if Newton fails or a NaN

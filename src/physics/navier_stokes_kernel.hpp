@@ -72,10 +72,10 @@ inline Stabilization stabilization(const fem::TetGeometry& geo, const Vec3& velo
 
 /// Quantities shared by the residual and the Jacobian of one element.
 struct FluidElementFields {
-  Mat3 L{};                          ///< velocity gradient L_ij = du_i/dx_j
-  double div = 0.0;                  ///< div u
-  Vec3 grad_p{};                     ///< grad p
-  std::array<Vec3, 4> r{};           ///< nodal values of the strong residual r_M
+  Mat3 L{};                                 ///< velocity gradient L_ij = du_i/dx_j
+  double div = 0.0;                         ///< div u
+  Vec3 grad_p{};                            ///< grad p
+  std::array<Vec3, 4> r{};                  ///< nodal values of the strong residual r_M
   std::array<std::array<double, 4>, 4> W{}; ///< W_ac = int (u . grad N_a) N_c
 };
 
@@ -84,7 +84,8 @@ inline FluidElementFields element_fields(const fem::TetGeometry& geo, const Flui
   FluidElementFields f;
   for (int b = 0; b < 4; ++b)
     for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) f.L[i][j] += s.u[b][i] * geo.grad[b][j];
+      for (int j = 0; j < 3; ++j)
+        f.L[i][j] += s.u[b][i] * geo.grad[b][j];
       f.grad_p[i] += s.p[b] * geo.grad[b][i];
     }
   f.div = f.L[0][0] + f.L[1][1] + f.L[2][2];
@@ -94,7 +95,8 @@ inline FluidElementFields element_fields(const fem::TetGeometry& geo, const Flui
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b) {
       const double s_ab = dot(s.u[b], geo.grad[a]);
-      for (int c = 0; c < 4; ++c) f.W[a][c] += s_ab * fem::mass(geo.volume, b, c);
+      for (int c = 0; c < 4; ++c)
+        f.W[a][c] += s_ab * fem::mass(geo.volume, b, c);
     }
   return f;
 }
@@ -107,7 +109,8 @@ inline void navier_stokes_residual(const fem::TetGeometry& geo, const FluidEleme
   const double V = geo.volume, rho = fluid.density, mu = fluid.viscosity, tau = stab.tau_m;
   const double p_mean = 0.25 * (s.p[0] + s.p[1] + s.p[2] + s.p[3]);
   Vec3 r_sum{};
-  for (int c = 0; c < 4; ++c) r_sum = r_sum + f.r[c];
+  for (int c = 0; c < 4; ++c)
+    r_sum = r_sum + f.r[c];
   for (int a = 0; a < 4; ++a) {
     const Vec3& gN = geo.grad[a];
     for (int i = 0; i < 3; ++i) {
@@ -116,12 +119,13 @@ inline void navier_stokes_residual(const fem::TetGeometry& geo, const FluidEleme
         v += fem::mass(V, a, c) * (f.r[c][i] - f.grad_p[i]); // (w, rho (udot + u.grad u))
         v += tau * f.W[a][c] * f.r[c][i];                    // SUPG
       }
-      for (int j = 0; j < 3; ++j) v += V * mu * (f.L[i][j] + f.L[j][i]) * gN[j]; // viscous
-      v -= V * p_mean * gN[i];                                                    // -(div w, p)
-      v += V * rho * stab.nu_c * f.div * gN[i];                                   // LSIC
+      for (int j = 0; j < 3; ++j)
+        v += V * mu * (f.L[i][j] + f.L[j][i]) * gN[j]; // viscous
+      v -= V * p_mean * gN[i];                         // -(div w, p)
+      v += V * rho * stab.nu_c * f.div * gN[i];        // LSIC
       R[4 * a + i] = v;
     }
-    R[4 * a + 3] = 0.25 * V * f.div                    // (q, div u)
+    R[4 * a + 3] = 0.25 * V * f.div                         // (q, div u)
                    + tau / rho * 0.25 * V * dot(gN, r_sum); // PSPG
   }
 }
@@ -133,11 +137,13 @@ inline void navier_stokes_jacobian(const fem::TetGeometry& geo, const FluidEleme
   const FluidElementFields f = element_fields(geo, s, fluid);
   const double V = geo.volume, rho = fluid.density, mu = fluid.viscosity, tau = stab.tau_m;
   Vec3 u_sum{};
-  for (int c = 0; c < 4; ++c) u_sum = u_sum + s.u[c];
+  for (int c = 0; c < 4; ++c)
+    u_sum = u_sum + s.u[c];
   for (int a = 0; a < 4; ++a) {
     const Vec3& gNa = geo.grad[a];
     double W_row = 0.0;
-    for (int c = 0; c < 4; ++c) W_row += f.W[a][c];
+    for (int c = 0; c < 4; ++c)
+      W_row += f.W[a][c];
     for (int d = 0; d < 4; ++d) {
       const Vec3& gNd = geo.grad[d];
       const double M_ad = fem::mass(V, a, d);
@@ -153,12 +159,14 @@ inline void navier_stokes_jacobian(const fem::TetGeometry& geo, const FluidEleme
       for (int i = 0; i < 3; ++i) {
         for (int k = 0; k < 3; ++k) {
           const double delta = (i == k) ? 1.0 : 0.0;
-          double v = rho * c_a * M_ad * delta                  // inertia
-                     + rho * c_u * (A_ad * delta + M_ad * f.L[i][k]) // convection
+          double v = rho * c_a * M_ad * delta                               // inertia
+                     + rho * c_u * (A_ad * delta + M_ad * f.L[i][k])        // convection
                      + V * mu * c_u * (delta * grad_grad + gNa[k] * gNd[i]) // viscous
-                     + tau * c_u * gNa[k] * Mr[i]              // SUPG: d(u . grad w)/du
-                     + tau * rho * (c_a * f.W[a][d] * delta + c_u * (B_ad * delta + f.W[a][d] * f.L[i][k])) // SUPG: dr_M/du
-                     + V * rho * stab.nu_c * c_u * gNa[i] * gNd[k]; // LSIC
+                     + tau * c_u * gNa[k] * Mr[i] // SUPG: d(u . grad w)/du
+                     + tau * rho *
+                           (c_a * f.W[a][d] * delta +
+                            c_u * (B_ad * delta + f.W[a][d] * f.L[i][k])) // SUPG: dr_M/du
+                     + V * rho * stab.nu_c * c_u * gNa[i] * gNd[k];       // LSIC
           K[4 * a + i][4 * d + k] = v;
         }
         K[4 * a + i][4 * d + 3] = -0.25 * V * gNa[i] + tau * W_row * gNd[i]; // pressure, SUPG
@@ -166,7 +174,8 @@ inline void navier_stokes_jacobian(const fem::TetGeometry& geo, const FluidEleme
       // Continuity row: (q, div u) and PSPG.
       for (int k = 0; k < 3; ++k) {
         double LtgN = 0.0; // sum_i grad N_a,i L_ik
-        for (int i = 0; i < 3; ++i) LtgN += gNa[i] * f.L[i][k];
+        for (int i = 0; i < 3; ++i)
+          LtgN += gNa[i] * f.L[i][k];
         K[4 * a + 3][4 * d + k] =
             0.25 * V * c_u * gNd[k] +
             tau * 0.25 * V * (c_a * gNa[k] + c_u * (gNa[k] * dot(gNd, u_sum) + LtgN));

@@ -15,7 +15,8 @@ io::Case default_case() {
   const std::vector<double> t{0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.8};
   const std::vector<double> q{2.0, 30.0, 75.0, 90.0, 70.0, 40.0, 12.0, -6.0, 0.0, 4.0, 3.0, 2.0};
   std::vector<double> q_si;
-  for (double v : q) q_si.push_back(v * 1e-6);
+  for (double v : q)
+    q_si.push_back(v * 1e-6);
   io::BoundaryCondition wall, inlet, outlet;
   wall.face = "wall";
   inlet.face = "inlet";

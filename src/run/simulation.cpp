@@ -33,8 +33,8 @@ bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m) {
                                      : b.profile == io::InflowProfile::Womersley
                                          ? bc::ProfileShape::Womersley
                                          : bc::ProfileShape::Parabolic;
-      out.inflows.emplace_back(m, m.face(b.face), b.flow, shape, c.fluid.density,
-                               c.fluid.viscosity, b.womersley_modes);
+      out.inflows.emplace_back(m, m.face(b.face), b.flow, shape, c.fluid.density, c.fluid.viscosity,
+                               b.womersley_modes);
       break;
     }
     case io::BcType::Pressure:
@@ -83,14 +83,16 @@ std::vector<double> Simulation::gather(Vec v) const {
     fem::ReadArray a(all);
     const auto& o2g = dmesh_->original_to_global();
     for (Index n = 0; n < mesh_.num_nodes(); ++n)
-      for (int c = 0; c < bs; ++c) out[bs * n + c] = a[bs * o2g[n] + c];
+      for (int c = 0; c < bs; ++c)
+        out[bs * n + c] = a[bs * o2g[n] + c];
   }
   VecScatterDestroy(&to_all);
   VecDestroy(&all);
   return out;
 }
 
-void Simulation::set_state(int step, const std::vector<double>& U, const std::vector<double>& Udot) {
+void Simulation::set_state(int step, const std::vector<double>& U,
+                           const std::vector<double>& Udot) {
   const int bs = physics::FluidProblem::block;
   fem::WriteArray u(solver_->solution()), ud(solver_->acceleration());
   for (Index l = 0; l < dmesh_->num_owned(); ++l) {
@@ -105,11 +107,13 @@ void Simulation::set_state(int step, const std::vector<double>& U, const std::ve
 
 void Simulation::write_frame() {
   const std::vector<double> U = gather(solver_->solution());
-  if (fem::mpi_rank(dmesh_->comm()) != 0) return;
+  if (fem::mpi_rank(dmesh_->comm()) != 0)
+    return;
   io::PointField velocity{"velocity", 3, {}}, pressure{"pressure", 1, {}};
   velocity.values.reserve(3 * mesh_.points.size());
   for (Index n = 0; n < mesh_.num_nodes(); ++n) {
-    for (int c = 0; c < 3; ++c) velocity.values.push_back(U[4 * n + c]);
+    for (int c = 0; c < 3; ++c)
+      velocity.values.push_back(U[4 * n + c]);
     pressure.values.push_back(U[4 * n + 3]);
   }
   output_->series->write(step_, time(), {velocity, pressure});
@@ -147,7 +151,8 @@ RunSummary Simulation::run(const RunOptions& options) {
       std::string line;
       std::getline(in, line); // header
       while (std::getline(in, line))
-        if (std::stoi(line.substr(0, line.find(','))) <= step_) output_->face_rows.push_back(line);
+        if (std::stoi(line.substr(0, line.find(','))) <= step_)
+          output_->face_rows.push_back(line);
     }
     if (root && options.progress)
       fmt::print("restarting from step {} (t = {:.6g} s) of '{}'\n", step_, time(),
@@ -158,9 +163,11 @@ RunSummary Simulation::run(const RunOptions& options) {
   }
 
   auto write_faces_csv = [&] {
-    if (!root || !options.write_output) return;
+    if (!root || !options.write_output)
+      return;
     std::string text = faces_header + "\n";
-    for (const std::string& r : output_->face_rows) text += r + "\n";
+    for (const std::string& r : output_->face_rows)
+      text += r + "\n";
     io::write_file_atomically(faces_csv, text);
   };
   auto write_checkpoint = [&] {
@@ -171,7 +178,8 @@ RunSummary Simulation::run(const RunOptions& options) {
     c.block = physics::FluidProblem::block;
     c.solution = gather(solver_->solution());
     c.derivative = gather(solver_->acceleration());
-    if (root) io::write_checkpoint(checkpoint_file, c);
+    if (root)
+      io::write_checkpoint(checkpoint_file, c);
   };
 
   RunSummary summary;
@@ -194,8 +202,10 @@ RunSummary Simulation::run(const RunOptions& options) {
     if (options.write_output) {
       append_face_rows(output_->face_rows);
       const bool last = step_ == total;
-      if ((case_.output.every > 0 && step_ % case_.output.every == 0) || last) write_frame();
-      if (case_.output.checkpoint_every > 0 && (step_ % case_.output.checkpoint_every == 0 || last)) {
+      if ((case_.output.every > 0 && step_ % case_.output.every == 0) || last)
+        write_frame();
+      if (case_.output.checkpoint_every > 0 &&
+          (step_ % case_.output.checkpoint_every == 0 || last)) {
         write_faces_csv();
         write_checkpoint();
       }
@@ -206,7 +216,8 @@ RunSummary Simulation::run(const RunOptions& options) {
       fmt::print("step {:>5}/{}  t = {:.5f} s  Newton {} (|R| {:.2e} -> {:.2e})  KSP {:>4}  "
                  "{:.2f} s/step (assembly {:.2f} s)  ETA {:.0f} s\n",
                  step_, total, time(), r.newton_iterations, r.residual_initial, r.residual_final,
-                 r.linear_iterations, r.assembly_seconds + r.solve_seconds, r.assembly_seconds, eta);
+                 r.linear_iterations, r.assembly_seconds + r.solve_seconds, r.assembly_seconds,
+                 eta);
       std::fflush(stdout);
     }
   }

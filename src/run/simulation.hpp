@@ -12,13 +12,13 @@
 namespace tearflow::run {
 
 struct RunOptions {
-  bool restart = false;  ///< continue from the output directory's checkpoint
-  bool progress = true;  ///< one progress line per step on stdout
+  bool restart = false; ///< continue from the output directory's checkpoint
+  bool progress = true; ///< one progress line per step on stdout
   bool write_output = true;
 };
 
 struct RunSummary {
-  int steps = 0;          ///< steps taken by this call
+  int steps = 0; ///< steps taken by this call
   double wall_seconds = 0.0;
   std::vector<physics::StepReport> reports;
 };

@@ -16,9 +16,9 @@ namespace tearflow::verify {
 
 namespace {
 
-constexpr double R = 0.005, L = 0.04;        // pipe [m]
-constexpr double rho = 1060.0, mu = 0.004;   // blood-like
-constexpr double U_mean = 0.01;              // Re = 2 R U / nu ~ 26
+constexpr double R = 0.005, L = 0.04;      // pipe [m]
+constexpr double rho = 1060.0, mu = 0.004; // blood-like
+constexpr double U_mean = 0.01;            // Re = 2 R U / nu ~ 26
 const double Q = U_mean * std::numbers::pi * R * R;
 
 io::Case poiseuille_case(double element_size) {
@@ -49,8 +49,8 @@ PoiseuilleRun run_poiseuille(double element_size, bool progress) {
   for (int s = 0; s < sim.config().time.steps; ++s) {
     const auto r = sim.advance();
     if (progress)
-      fmt::print(stderr, "poiseuille h = {:.2e} m: step {} Newton {} KSP {}\n", element_size,
-                 s + 1, r.newton_iterations, r.linear_iterations);
+      fmt::print(stderr, "poiseuille h = {:.2e} m: step {} Newton {} KSP {}\n", element_size, s + 1,
+                 r.newton_iterations, r.linear_iterations);
   }
   const std::vector<double> U = sim.gather(sim.solver().solution());
   const mesh::Mesh& m = sim.mesh();
@@ -93,7 +93,8 @@ VerificationResult verify_poiseuille(const VerifyOptions& options) {
                          "|u_h(0,0,L/2) - 2Q/(pi R^2)| / (2Q/(pi R^2)); 2 % from O(h^2) at h=R/8"});
   res.metrics.push_back({"pressure_drop_relative_error",
                          std::abs(run.pressure_drop - dp_exact) / dp_exact, 0.02 * scale,
-                         "|dp_h - 8 mu L Q/(pi R^4)| / dp, dp_h from p on the axis at L/4 and 3L/4 scaled to L; 2 % from O(h^2)"});
+                         "|dp_h - 8 mu L Q/(pi R^4)| / dp, dp_h from p on the axis at L/4 and 3L/4 "
+                         "scaled to L; 2 % from O(h^2)"});
   res.details = {{"radius_m", R},
                  {"length_m", L},
                  {"flow_m3_per_s", Q},
@@ -109,7 +110,8 @@ VerificationResult verify_poiseuille(const VerifyOptions& options) {
     // Three meshes, each 1.5x finer; P1 gives rate 2 in L2. 1.7 allows for the meshes not
     // being nested refinements (unstructured Gmsh meshes at each size).
     std::vector<PoiseuilleRun> runs;
-    for (double f : {2.25, 1.5, 1.0}) runs.push_back(run_poiseuille(h * f, options.progress));
+    for (double f : {2.25, 1.5, 1.0})
+      runs.push_back(run_poiseuille(h * f, options.progress));
     nlohmann::json study = nlohmann::json::array();
     double worst_rate = 1e9;
     for (size_t i = 0; i < runs.size(); ++i) {

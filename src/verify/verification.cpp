@@ -6,7 +6,8 @@ namespace tearflow::verify {
 
 bool VerificationResult::passed() const {
   for (const Metric& m : metrics)
-    if (!m.passed()) return false;
+    if (!m.passed())
+      return false;
   return !metrics.empty();
 }
 
@@ -25,12 +26,14 @@ nlohmann::json VerificationResult::to_json() const {
 
 const std::map<std::string, VerificationCase>& verification_cases() {
   static const std::map<std::string, VerificationCase> cases = {
-      {"poiseuille", {"steady flow in a rigid pipe against the parabolic profile and the "
-                      "Hagen-Poiseuille pressure drop; --convergence adds the L2 rate",
-                      verify_poiseuille}},
-      {"womersley", {"pulsatile flow in a rigid pipe (Womersley number ~12) against the "
-                     "analytic Womersley profile over one cycle",
-                     verify_womersley}},
+      {"poiseuille",
+       {"steady flow in a rigid pipe against the parabolic profile and the "
+        "Hagen-Poiseuille pressure drop; --convergence adds the L2 rate",
+        verify_poiseuille}},
+      {"womersley",
+       {"pulsatile flow in a rigid pipe (Womersley number ~12) against the "
+        "analytic Womersley profile over one cycle",
+        verify_womersley}},
   };
   return cases;
 }

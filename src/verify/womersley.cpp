@@ -111,14 +111,16 @@ VerificationResult verify_womersley(const VerifyOptions& options) {
     const double r = std::min(R, std::hypot(x[0], x[1]));
     U[4 * n + 2] = exact.axial_velocity(r, 0.0);
     U[4 * n + 3] = exact.pressure_gradient(0.0) * (x[2] - L);
-    Udot[4 * n + 2] = (exact.axial_velocity(r, dt_fd) - exact.axial_velocity(r, -dt_fd)) / (2 * dt_fd);
+    Udot[4 * n + 2] =
+        (exact.axial_velocity(r, dt_fd) - exact.axial_velocity(r, -dt_fd)) / (2 * dt_fd);
   }
   sim.set_state(0, U, Udot);
 
   const std::vector<SectionPoint> pts = section_points(m);
   const auto center = fem::locate(m, {0.0, 0.0, 0.5 * L});
   double area = 0.0;
-  for (const auto& p : pts) area += p.weight;
+  for (const auto& p : pts)
+    area += p.weight;
 
   std::vector<double> center_h, center_exact, section_error, phase_times;
   double peak = 0.0;
@@ -127,13 +129,15 @@ VerificationResult verify_womersley(const VerifyOptions& options) {
     if (options.progress)
       fmt::print(stderr, "womersley: step {}/{} Newton {} KSP {}\n", s, steps_per_cycle,
                  rep.newton_iterations, rep.linear_iterations);
-    if (s % sample_every != 0) continue;
+    if (s % sample_every != 0)
+      continue;
     const double t = sim.time();
     const std::vector<double> Uh = sim.gather(sim.solver().solution());
     double err2 = 0.0;
     for (const SectionPoint& p : pts) {
       const double ue = exact.axial_velocity(p.r, t);
-      const double ux = fem::interpolate(m, p.at, Uh, 4, 0), uy = fem::interpolate(m, p.at, Uh, 4, 1);
+      const double ux = fem::interpolate(m, p.at, Uh, 4, 0),
+                   uy = fem::interpolate(m, p.at, Uh, 4, 1);
       const double uz = fem::interpolate(m, p.at, Uh, 4, 2);
       err2 += p.weight * (ux * ux + uy * uy + (uz - ue) * (uz - ue));
     }
@@ -157,10 +161,12 @@ VerificationResult verify_womersley(const VerifyOptions& options) {
   }
   // The lag of the centerline's first harmonic behind Q's, computed and exact.
   std::vector<double> q_samples;
-  for (double t : phase_times) q_samples.push_back(exact.flow(t));
+  for (double t : phase_times)
+    q_samples.push_back(exact.flow(t));
   auto wrap = [](double a) { return std::remainder(a, 2.0 * pi); };
   const double lag_h = wrap(first_harmonic_phase(q_samples) - first_harmonic_phase(center_h));
-  const double lag_exact = wrap(first_harmonic_phase(q_samples) - first_harmonic_phase(center_exact));
+  const double lag_exact =
+      wrap(first_harmonic_phase(q_samples) - first_harmonic_phase(center_exact));
 
   // P1 velocity is O(h^2): with h = R/10 ~ delta/1.2 (Stokes layer delta = R sqrt(2)/alpha)
   // the layer is resolved by about one element, where P1 misses ~5 % of its curvature; the
