@@ -136,6 +136,14 @@ void FluidProblem::stage(Vec U) {
   }
 }
 
+void FluidProblem::gather(const Tet& t, FluidElementState& s) const {
+  for (int a = 0; a < 4; ++a) {
+    s.u[a] = u_af_[t[a]];
+    s.udot[a] = udot_am_[t[a]];
+    s.p[a] = p_[t[a]];
+  }
+}
+
 void FluidProblem::update_outlet_fluxes() {
   const auto& x = dmesh_.points();
   for (OutletData& o : outlets_) {
@@ -165,11 +173,7 @@ void FluidProblem::residual(Vec U, Vec R) {
     ElementVector Re;
     for (size_t e = 0; e < tets.size(); ++e) {
       const Tet& t = tets[e];
-      for (int a = 0; a < 4; ++a) {
-        s.u[a] = u_af_[t[a]];
-        s.udot[a] = udot_am_[t[a]];
-        s.p[a] = p_[t[a]];
-      }
+      gather(t, s);
       navier_stokes_residual(geometry_[e], s, stab_[e], fluid_, Re);
       for (int a = 0; a < 4; ++a)
         for (int c = 0; c < block; ++c)
@@ -231,10 +235,8 @@ void FluidProblem::jacobian(Vec U, Mat J) {
   std::array<PetscInt, 16> rows, cols;
   for (size_t e = 0; e < tets.size(); ++e) {
     const Tet& t = tets[e];
+    gather(t, s);
     for (int a = 0; a < 4; ++a) {
-      s.u[a] = u_af_[t[a]];
-      s.udot[a] = udot_am_[t[a]];
-      s.p[a] = p_[t[a]];
       for (int c = 0; c < block; ++c) {
         rows[block * a + c] = row_index(dofs_, dirichlet_[t[a]], t[a], c);
         cols[block * a + c] = dofs_.global_dof(t[a], c);

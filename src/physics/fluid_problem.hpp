@@ -58,7 +58,9 @@ private:
     double flux = 0.0;
   };
 
-  void stage(Vec U);           ///< local U -> u_af, udot_am, p per local node
+  void stage(Vec U); ///< local U -> u_af, udot_am, p per local node
+  /// The staged nodal values of one tet's nodes.
+  void gather(const Tet& t, FluidElementState& s) const;
   void update_outlet_fluxes(); ///< Q of every outlet from u_af (collective)
   double outlet_pressure(const OutletData& o) const;
 
