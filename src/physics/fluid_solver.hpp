@@ -3,6 +3,7 @@
 // per generalized-alpha step. The Jacobian operator is a shell, assembled matrix plus the
 // outlets' low-rank term; the preconditioner is built from the assembled matrix. Every
 // solver choice (KSP, PC, line search, lagging) can be changed through PETSc options.
+#include <array>
 #include <string>
 
 #include "io/case.hpp"
@@ -43,6 +44,7 @@ private:
   bool has_coupled_outlets_ = false;
   double assembly_seconds_ = 0.0;
   std::string callback_error_;
+  std::array<PetscReal, 64> residual_history_{}; ///< ||R|| per Newton iteration, from SNES
 };
 
 } // namespace tearflow::physics
