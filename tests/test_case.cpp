@@ -141,11 +141,32 @@ TEST(LoadCase, InlineSamplesAndSimVascularFlow) {
 
   // Inline samples in ms and mmHg with an explicit period.
   const io::BoundaryCondition& outlet = c.boundary_conditions[1];
-  EXPECT_DOUBLE_EQ(outlet.pressure.period(), 0.6);
+  EXPECT_DOUBLE_EQ(outlet.pressure.period(), 1.0);
   EXPECT_NEAR(outlet.pressure(0.2), 120.0 * units::mmHg, 1e-9);
-  EXPECT_NEAR(outlet.pressure(0.8), 120.0 * units::mmHg, 1e-9);
+  EXPECT_NEAR(outlet.pressure(1.2), 120.0 * units::mmHg, 1e-9);
+  // The cardiac period comes from the waveforms; 1 s is 1000 steps of 1 ms.
+  EXPECT_DOUBLE_EQ(c.time.period, 1.0);
+  EXPECT_EQ(c.time.steps_per_cycle, 1000);
 
   EXPECT_EQ(c.petsc_options, "-fluid_ksp_type fgmres -fluid_pc_type asm");
+}
+
+TEST(LoadCase, WindkesselOutletAndPeriodicityStop) {
+  const io::Case c = io::load_case(kCases / "rcr_cycles.yaml");
+  const io::BoundaryCondition& outlet = c.boundary_conditions[1];
+  ASSERT_EQ(outlet.type, io::BcType::Windkessel);
+  EXPECT_DOUBLE_EQ(outlet.rcr.proximal_resistance, 1.21e7);
+  EXPECT_DOUBLE_EQ(outlet.rcr.capacitance, 1.5e-10);
+  EXPECT_DOUBLE_EQ(outlet.rcr.distal_resistance, 1.212e8);
+  EXPECT_NEAR(outlet.rcr.reference_pressure, 5.0 * units::mmHg, 1e-9);
+  ASSERT_TRUE(outlet.initial_distal_pressure.has_value());
+  EXPECT_NEAR(*outlet.initial_distal_pressure, 80.0 * units::mmHg, 1e-9);
+  // Period from the .flow file; at most 6 cycles of 100 steps.
+  EXPECT_DOUBLE_EQ(c.time.period, 1.0);
+  EXPECT_EQ(c.time.steps_per_cycle, 100);
+  EXPECT_EQ(c.time.steps, 600);
+  EXPECT_DOUBLE_EQ(c.time.periodicity_tolerance, 0.01);
+  EXPECT_FALSE(c.time.start_from_0d);
 }
 
 // --- invalid cases -----------------------------------------------------------------------
@@ -228,7 +249,24 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
   BadCase{"bad_mesh_missing_file.yaml", 3, "mesh.file", "not found: "},
   BadCase{"bad_mesh_units.yaml", 4, "mesh.units",
           "unknown value 'inch'; expected one of m, cm or mm"},
-  BadCase{"bad_petsc_nested.yaml", 11, "petsc_options.fluid", "expected a string, got a mapping"}),
+  BadCase{"bad_petsc_nested.yaml", 11, "petsc_options.fluid", "expected a string, got a mapping"},
+  BadCase{"bad_period.yaml", 15, "boundary_conditions[1].pressure",
+          "the waveform's period is 0.6 s but the case's period is 1 s"},
+  BadCase{"bad_period_mismatch.yaml", 12, "boundary_conditions[0].flow",
+          "the waveform's period is 1 s but the case's period is 0.8 s (time.period)"},
+  BadCase{"bad_rcr_capacitance.yaml", 14, "boundary_conditions[1].capacitance",
+          "expected a number > 0, got '-1.0e-9'"},
+  BadCase{"bad_rcr_distal_zero.yaml", 15, "boundary_conditions[1].distal_resistance",
+          "expected a number > 0, got '0'"},
+  BadCase{"bad_rcr_proximal_negative.yaml", 13, "boundary_conditions[1].proximal_resistance",
+          "expected a number >= 0, got '-1.0e7'"},
+  BadCase{"bad_rcr_missing_c.yaml", 11, "boundary_conditions[1]",
+          "required key 'capacitance' is missing"},
+  BadCase{"bad_rcr_key.yaml", 13, "boundary_conditions[1].resistance",
+          "key 'resistance' does not apply here (type: rcr)"},
+  BadCase{"bad_cycles_step.yaml", 7, "time.cycles",
+          "the period 1 s is not a multiple of time.step = 0.003 s"},
+  BadCase{"bad_cycles_and_steps.yaml", 8, "time.cycles", "not both time.steps and time.cycles"}),
   [](const testing::TestParamInfo<BadCase>& info) {
     std::string name = fs::path(info.param.file).stem().string();
     std::replace_if(name.begin(), name.end(), [](char ch) { return !std::isalnum(ch); }, '_');

@@ -45,7 +45,8 @@ std::map<std::pair<int, std::string>, std::pair<double, double>> read_faces(cons
   std::ifstream in(dir / "faces.csv");
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "step,time_s,face,flow_m3_per_s,pressure_Pa,area_m2");
+  EXPECT_EQ(line, "step,time_s,face,flow_m3_per_s,pressure_Pa,area_m2,reversed_flow_m3_per_s,"
+                  "distal_pressure_Pa");
   std::map<std::pair<int, std::string>, std::pair<double, double>> rows;
   while (std::getline(in, line)) {
     std::stringstream s(line);

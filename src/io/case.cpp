@@ -85,17 +85,28 @@ FluidSpec read_fluid(const YamlValue& v) {
   return fluid;
 }
 
-TimeSpec read_time(const YamlValue& v) {
-  v.check_keys({"step", "steps", "end", "spectral_radius"});
+/// How long to run, as the case file says it; resolved once the waveforms' period is known.
+struct RunLength {
+  std::optional<int> steps, cycles, max_cycles;
+  std::optional<YamlValue> node; ///< the key that set cycles or periodicity, for messages
+};
+
+TimeSpec read_time(const YamlValue& v, RunLength& length) {
+  v.check_keys(
+      {"step", "steps", "end", "cycles", "periodicity", "period", "spectral_radius", "start"});
   TimeSpec time;
   time.step = v.require("step", "the time step in seconds, a number > 0").positive();
-  const auto steps = v.get("steps");
-  const auto end = v.get("end");
-  if (steps && end)
-    end->fail("give either time.steps or time.end, not both");
-  if (steps)
-    time.steps = steps->integer(1);
-  if (end) {
+  std::vector<YamlValue> given;
+  for (const char* key : {"steps", "end", "cycles", "periodicity"})
+    if (auto x = v.get(key))
+      given.push_back(*x);
+  if (given.size() > 1)
+    given[1].fail(fmt::format("give one of time.steps, time.end, time.cycles and "
+                              "time.periodicity, not both {} and {}",
+                              given[0].path(), given[1].path()));
+  if (auto steps = v.get("steps"))
+    length.steps = steps->integer(1);
+  if (auto end = v.get("end")) {
     const double t_end = end->positive();
     const double n = std::round(t_end / time.step);
     if (n < 1.0)
@@ -103,14 +114,78 @@ TimeSpec read_time(const YamlValue& v) {
           fmt::format("time.end = {} s is shorter than half a time step ({} s)", t_end, time.step));
     if (n > INT_MAX)
       end->fail(fmt::format("time.end / time.step = {} steps is too many", n));
-    time.steps = static_cast<int>(n);
+    length.steps = static_cast<int>(n);
     if (std::abs(n * time.step - t_end) > 1e-6 * time.step)
       spdlog::warn("{}: {} s is not a multiple of time.step = {} s; running {} steps, to t = {} s",
-                   end->where(), t_end, time.step, time.steps, n * time.step);
+                   end->where(), t_end, time.step, n, n * time.step);
   }
+  if (auto cycles = v.get("cycles")) {
+    length.cycles = cycles->integer(1);
+    length.node = *cycles;
+  }
+  if (auto p = v.get("periodicity")) {
+    p->check_keys({"tolerance", "max_cycles"});
+    time.periodicity_tolerance =
+        p->require("tolerance", "the largest cycle-to-cycle change accepted as periodic, "
+                                "relative, a number in (0, 1)")
+            .in_range(0.0, 1.0);
+    if (time.periodicity_tolerance <= 0.0)
+      p->get("tolerance")->fail_expected("a number in (0, 1)");
+    length.max_cycles = 10;
+    if (auto m = p->get("max_cycles"))
+      length.max_cycles = m->integer(2);
+    length.node = *p;
+  }
+  if (auto x = v.get("period"))
+    time.period = x->positive();
   if (auto x = v.get("spectral_radius"))
     time.spectral_radius = x->in_range(0.0, 1.0);
+  if (auto x = v.get("start"))
+    time.start_from_0d = x->choice({"periodic_0d", "rest"}) == "periodic_0d";
   return time;
+}
+
+/// The cardiac period: time.period if given, else the waveforms' common period; every
+/// periodic waveform must have it. Then the run length in steps.
+void resolve_period(Case& c, const YamlValue& time_node, const YamlValue& bcs_node,
+                    const RunLength& length) {
+  const std::vector<YamlValue> items = bcs_node.items();
+  for (size_t i = 0; i < c.boundary_conditions.size(); ++i) {
+    const BoundaryCondition& b = c.boundary_conditions[i];
+    const bc::Waveform& w = b.type == BcType::Inflow ? b.flow : b.pressure;
+    if (w.is_constant())
+      continue;
+    const char* key = b.type == BcType::Inflow ? "flow" : "pressure";
+    if (c.time.period == 0.0) {
+      c.time.period = w.period();
+    } else if (std::abs(w.period() - c.time.period) > 1e-9 * c.time.period) {
+      const YamlValue where = items[i].get(key).value_or(items[i]);
+      where.fail(fmt::format("the waveform's period is {} s but the case's period is {} s ({}); "
+                             "give every waveform over the same cardiac cycle",
+                             w.period(), c.time.period,
+                             time_node.has("period") ? "time.period" : "from an earlier waveform"));
+    }
+  }
+  if (c.time.period > 0.0) {
+    const double n = c.time.period / c.time.step;
+    if (std::abs(n - std::round(n)) < 1e-6 * n)
+      c.time.steps_per_cycle = static_cast<int>(std::round(n));
+  }
+  if (!length.cycles && !length.max_cycles) {
+    c.time.steps = length.steps.value_or(c.time.steps);
+    return;
+  }
+  if (c.time.period == 0.0)
+    length.node->fail("cycles need a period: give time.period or a periodic waveform");
+  if (c.time.steps_per_cycle == 0)
+    length.node->fail(fmt::format("the period {} s is not a multiple of time.step = {} s",
+                                  c.time.period, c.time.step));
+  const long steps =
+      static_cast<long>(length.cycles ? *length.cycles : *length.max_cycles) *
+      c.time.steps_per_cycle;
+  if (steps > INT_MAX)
+    length.node->fail(fmt::format("{} steps are too many", steps));
+  c.time.steps = static_cast<int>(steps);
 }
 
 NewtonSpec read_newton(const YamlValue& v) {
@@ -167,7 +242,9 @@ OutputSpec read_output(const std::optional<YamlValue>& v, const std::string& nam
 // --- boundary conditions -----------------------------------------------------------------
 
 BcType read_bc_type(const YamlValue& v) {
-  const std::string type = v.choice({"no_slip", "inflow", "pressure", "resistance"});
+  const std::string type = v.choice({"no_slip", "inflow", "pressure", "resistance", "rcr"});
+  if (type == "rcr")
+    return BcType::Windkessel;
   if (type == "inflow")
     return BcType::Inflow;
   if (type == "pressure")
@@ -191,26 +268,43 @@ BoundaryCondition read_bc(const YamlValue& v, const fs::path& case_dir) {
     v.fail_expected("a mapping with face, type and the type's keys");
   // First against every key any condition takes (to catch typos), then against the type's.
   v.check_keys({"face", "type", "flow", "units", "profile", "womersley_modes", "pressure",
-                "resistance", "backflow_beta"});
+                "resistance", "backflow_beta", "distal_pressure", "proximal_resistance",
+                "capacitance", "distal_resistance", "initial_distal_pressure"});
   BoundaryCondition bc;
   const YamlValue face = v.require("face", "the name of a mesh face");
   bc.face = face.text();
   if (bc.face.empty())
     face.fail_expected("the name of a mesh face");
-  const YamlValue type = v.require("type", "no_slip, inflow, pressure or resistance");
+  const YamlValue type = v.require("type", "no_slip, inflow, pressure, resistance or rcr");
   bc.type = read_bc_type(type);
   const std::string reason = fmt::format("type: {}", type.text());
 
+  // A key of another condition type is reported as not applying here, with this type.
+  auto check = [&](std::initializer_list<std::string_view> own) {
+    std::vector<std::string_view> allowed = {"face", "type"};
+    allowed.insert(allowed.end(), own.begin(), own.end());
+    for (const auto& [key, value] : v.entries())
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
+        value.fail(fmt::format("key '{}' does not apply here ({}); allowed keys: {}", key, reason,
+                               fmt::join(allowed, ", ")));
+  };
+  auto pressure_value = [&](const YamlValue& x) {
+    return read_case_waveform(x, v.get("units"), kPressure, case_dir);
+  };
+  auto constant_pressure = [&](const char* key) {
+    const YamlValue x = *v.get(key);
+    const bc::Waveform w = pressure_value(x);
+    if (!w.is_constant())
+      x.fail_expected("a constant pressure (a number, in `units` if given)");
+    return w(0.0);
+  };
+
   switch (bc.type) {
   case BcType::NoSlip:
-    v.check_keys(
-        {"face", "type"},
-        {"flow", "units", "profile", "womersley_modes", "pressure", "resistance", "backflow_beta"},
-        reason);
+    check({});
     break;
   case BcType::Inflow: {
-    v.check_keys({"face", "type", "flow", "units", "profile", "womersley_modes"},
-                 {"pressure", "resistance", "backflow_beta"}, reason);
+    check({"flow", "units", "profile", "womersley_modes"});
     const YamlValue flow =
         v.require("flow", "the volume flow into the domain: a number (m3/s unless units "
                           "says otherwise) or a mapping with file or times/values");
@@ -229,18 +323,33 @@ BoundaryCondition read_bc(const YamlValue& v, const fs::path& case_dir) {
     break;
   }
   case BcType::Pressure:
-    v.check_keys({"face", "type", "pressure", "units", "backflow_beta"},
-                 {"flow", "profile", "womersley_modes", "resistance"}, reason);
+    check({"pressure", "units", "backflow_beta"});
     if (auto p = v.get("pressure"))
-      bc.pressure = read_case_waveform(*p, v.get("units"), kPressure, case_dir);
+      bc.pressure = pressure_value(*p);
     else if (auto u = v.get("units"))
       u->fail("units applies to pressure, which is not given (it defaults to 0)");
     break;
   case BcType::Resistance:
-    v.check_keys({"face", "type", "resistance", "backflow_beta"},
-                 {"flow", "units", "profile", "womersley_modes", "pressure"}, reason);
+    check({"resistance", "distal_pressure", "units", "backflow_beta"});
     bc.resistance =
         v.require("resistance", "the outlet resistance in Pa s/m^3, a number > 0").positive();
+    if (v.has("distal_pressure"))
+      bc.distal_pressure = constant_pressure("distal_pressure");
+    break;
+  case BcType::Windkessel:
+    check({"proximal_resistance", "capacitance", "distal_resistance", "distal_pressure",
+           "initial_distal_pressure", "units", "backflow_beta"});
+    // R_p may be 0 (a two-element Windkessel); C and R_d must be > 0 for the ODE (1).
+    bc.rcr.proximal_resistance =
+        v.require("proximal_resistance", "R_p in Pa s/m^3, a number >= 0").non_negative();
+    bc.rcr.capacitance = v.require("capacitance", "C in m^3/Pa, a number > 0").positive();
+    bc.rcr.distal_resistance =
+        v.require("distal_resistance", "R_d in Pa s/m^3, a number > 0").positive();
+    if (v.has("distal_pressure"))
+      bc.distal_pressure = constant_pressure("distal_pressure");
+    bc.rcr.reference_pressure = bc.distal_pressure;
+    if (v.has("initial_distal_pressure"))
+      bc.initial_distal_pressure = constant_pressure("initial_distal_pressure");
     break;
   }
   if (auto beta = v.get("backflow_beta"))
@@ -291,9 +400,13 @@ Case load_case(const fs::path& file) {
                           case_dir);
   if (auto fluid = root.get("fluid"))
     c.fluid = read_fluid(*fluid);
-  c.time = read_time(root.require("time", "a mapping with at least time.step"));
-  c.boundary_conditions = read_bcs(
-      root.require("boundary_conditions", "a list of {face: ..., type: ...} mappings"), case_dir);
+  const YamlValue time_node = root.require("time", "a mapping with at least time.step");
+  RunLength length;
+  c.time = read_time(time_node, length);
+  const YamlValue bcs_node =
+      root.require("boundary_conditions", "a list of {face: ..., type: ...} mappings");
+  c.boundary_conditions = read_bcs(bcs_node, case_dir);
+  resolve_period(c, time_node, bcs_node, length);
   if (auto newton = root.get("newton"))
     c.newton = read_newton(*newton);
   if (auto petsc = root.get("petsc_options"))

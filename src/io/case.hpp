@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bc/waveform.hpp"
+#include "bc/windkessel.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pipe_generator.hpp"
 
@@ -26,11 +27,19 @@ struct FluidSpec {
 
 struct TimeSpec {
   double step = 1e-3;           ///< [s]
-  int steps = 100;              ///< number of time steps
+  int steps = 100;              ///< number of time steps (the most, with a periodicity stop)
   double spectral_radius = 0.5; ///< rho_inf of generalized-alpha, in [0, 1]
+  /// Cardiac cycle [s]: the waveforms' period unless given; 0 when everything is constant.
+  double period = 0.0;
+  int steps_per_cycle = 0; ///< period / step when the period is a multiple of the step
+  /// Stop once every outlet's cycle-to-cycle change is below this (0: run all steps).
+  double periodicity_tolerance = 0.0;
+  /// Start the RCR outlets (and the pressure field) from the periodic state of the 0D model
+  /// of the outlets instead of their initial_distal_pressure and rest.
+  bool start_from_0d = true;
 };
 
-enum class BcType { NoSlip, Inflow, Pressure, Resistance };
+enum class BcType { NoSlip, Inflow, Pressure, Resistance, Windkessel };
 enum class InflowProfile { Parabolic, Plug, Womersley };
 
 struct BoundaryCondition {
@@ -42,8 +51,12 @@ struct BoundaryCondition {
   int womersley_modes = 16;
   // Pressure outlet: normal traction -P n [Pa].
   bc::Waveform pressure = bc::Waveform::constant(0.0);
-  // Resistance outlet: P = resistance * Q [Pa s/m^3].
+  // Resistance outlet: P = distal_pressure + resistance * Q [Pa s/m^3].
   double resistance = 0.0;
+  double distal_pressure = 0.0; ///< P_ref of resistance and RCR outlets [Pa]
+  // RCR outlet (reference_pressure = distal_pressure); the initial P_d when given.
+  bc::WindkesselRCR rcr;
+  std::optional<double> initial_distal_pressure;
   // Outlets (pressure, resistance): backflow stabilization coefficient.
   double backflow_beta = 0.2;
 };

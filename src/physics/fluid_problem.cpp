@@ -10,18 +10,13 @@ namespace tearflow::physics {
 
 namespace {
 constexpr std::uint8_t all_velocity = 0b111;
-
-/// Rows of Dirichlet dofs are not assembled: PETSc ignores negative indices.
-PetscInt row_index(const fem::DofMap& dofs, std::uint8_t mask, Index l, int c) {
-  return (c < 3 && (mask >> c) & 1) ? -1 : dofs.global_dof(l, c);
-}
 } // namespace
 
 FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh,
                            FluidProperties fluid, bc::FluidConditions conditions,
                            GeneralizedAlpha scheme)
-    : dmesh_(dmesh), dofs_(dmesh, block), fluid_(fluid), conditions_(std::move(conditions)),
-      scheme_(scheme) {
+    : dmesh_(dmesh), dofs_(dmesh, block), inserter_(dofs_), fluid_(fluid),
+      conditions_(std::move(conditions)), scheme_(scheme) {
   const auto n_local = static_cast<size_t>(dmesh.num_local());
   geometry_.resize(dmesh.tets().size());
   for (size_t e = 0; e < geometry_.size(); ++e) {
@@ -54,13 +49,17 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
           inflow_nodes_.push_back({l, i, k});
       }
   }
-  for (Index l = 0; l < dmesh.num_owned(); ++l)
+  for (Index l = 0; l < dmesh.num_owned(); ++l) {
     if (is_wall[l])
       wall_nodes_.push_back(l);
+    for (int c = 0; c < 3; ++c)
+      if ((dirichlet_[l] >> c) & 1)
+        dirichlet_rows_.push_back(dofs_.global_dof(l, c));
+  }
 
   // Outlets: v_ai = int N_a n_i over this rank's triangles, summed into the global vector.
   for (const bc::TractionOutlet& spec : conditions_.outlets) {
-    OutletData o{spec, 0, dofs_.create_global(), 0.0};
+    OutletData o{spec, 0, dofs_.create_global(), 0.0, {spec.initial_distal_pressure, 0.0}, {}};
     const auto& faces = dmesh.faces();
     o.face_index = std::find_if(faces.begin(), faces.end(),
                                 [&](const fem::LocalFace& f) { return f.name == spec.face; }) -
@@ -106,6 +105,65 @@ void FluidProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
         mean[c] += 0.25 * un[block * l + c];
     stab_[e] = stabilization(geometry_[e], mean, fluid_, dt);
   }
+  const double t_af = t_n + scheme_.alpha_f * dt;
+  for (OutletData& o : outlets_)
+    o.law = o.spec.rcr ? bc::rcr_law(*o.spec.rcr, o.state.distal_pressure, o.state.flux, dt,
+                                     scheme_.alpha_f)
+                       : bc::OutletLaw{o.spec.pressure(t_af), o.spec.resistance};
+}
+
+template <typename Velocity>
+std::vector<double> FluidProblem::outlet_fluxes(Velocity&& velocity) const {
+  const auto& x = dmesh_.points();
+  std::vector<double> q(outlets_.size(), 0.0);
+  for (size_t i = 0; i < outlets_.size(); ++i)
+    for (const Tri& t : dmesh_.faces()[outlets_[i].face_index].triangles) {
+      double area;
+      Vec3 n;
+      bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
+      q[i] += area / 3.0 * dot(velocity(t[0]) + velocity(t[1]) + velocity(t[2]), n);
+    }
+  MPI_Allreduce(MPI_IN_PLACE, q.data(), static_cast<int>(q.size()), MPI_DOUBLE, MPI_SUM,
+                dmesh_.comm());
+  return q;
+}
+
+void FluidProblem::commit_step(Vec U_next) {
+  dofs_.global_to_local(U_next, U_loc_);
+  std::vector<double> q_next;
+  {
+    fem::ReadArray u(U_loc_);
+    q_next = outlet_fluxes([&](Index l) {
+      return Vec3{u[block * l], u[block * l + 1], u[block * l + 2]};
+    });
+  }
+  for (size_t i = 0; i < outlets_.size(); ++i) {
+    OutletData& o = outlets_[i];
+    if (o.spec.rcr)
+      o.state.distal_pressure =
+          bc::distal_update(*o.spec.rcr, o.state.distal_pressure, o.state.flux, dt_)(q_next[i]);
+    o.state.flux = q_next[i];
+  }
+}
+
+bool FluidProblem::has_coupled_outlets() const {
+  return std::any_of(outlets_.begin(), outlets_.end(), [](const OutletData& o) {
+    return o.spec.rcr || o.spec.resistance != 0.0;
+  });
+}
+
+std::vector<FluidProblem::OutletState> FluidProblem::outlet_states() const {
+  std::vector<OutletState> s;
+  for (const OutletData& o : outlets_)
+    s.push_back(o.state);
+  return s;
+}
+
+void FluidProblem::set_outlet_states(const std::vector<OutletState>& states) {
+  if (states.size() != outlets_.size())
+    input_error("{} outlet states given for {} outlets", states.size(), outlets_.size());
+  for (size_t i = 0; i < outlets_.size(); ++i)
+    outlets_[i].state = states[i];
 }
 
 void FluidProblem::apply_dirichlet(Vec U) const {
@@ -145,21 +203,13 @@ void FluidProblem::gather(const Tet& t, FluidElementState& s) const {
 }
 
 void FluidProblem::update_outlet_fluxes() {
-  const auto& x = dmesh_.points();
-  for (OutletData& o : outlets_) {
-    double q = 0.0;
-    for (const Tri& t : dmesh_.faces()[o.face_index].triangles) {
-      double area;
-      Vec3 n;
-      bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
-      q += area / 3.0 * dot(u_af_[t[0]] + u_af_[t[1]] + u_af_[t[2]], n);
-    }
-    MPI_Allreduce(&q, &o.flux, 1, MPI_DOUBLE, MPI_SUM, dmesh_.comm());
-  }
+  const std::vector<double> q = outlet_fluxes([&](Index l) { return u_af_[l]; });
+  for (size_t i = 0; i < outlets_.size(); ++i)
+    outlets_[i].flux = q[i];
 }
 
 double FluidProblem::outlet_pressure(const OutletData& o) const {
-  return o.spec.pressure(t_n_ + scheme_.alpha_f * dt_) + o.spec.resistance * o.flux;
+  return o.law.p0 + o.law.resistance * o.flux;
 }
 
 void FluidProblem::residual(Vec U, Vec R) {
@@ -227,24 +277,17 @@ void FluidProblem::residual(Vec U, Vec R) {
 
 void FluidProblem::jacobian(Vec U, Mat J) {
   stage(U);
-  TF_PETSC(MatZeroEntries(J));
   const double c_u = scheme_.c_u(), c_a = scheme_.c_a(dt_);
   const auto& tets = dmesh_.tets();
   FluidElementState s;
   ElementMatrix K;
-  std::array<PetscInt, 16> rows, cols;
+  inserter_.begin(J);
   for (size_t e = 0; e < tets.size(); ++e) {
-    const Tet& t = tets[e];
-    gather(t, s);
-    for (int a = 0; a < 4; ++a) {
-      for (int c = 0; c < block; ++c) {
-        rows[block * a + c] = row_index(dofs_, dirichlet_[t[a]], t[a], c);
-        cols[block * a + c] = dofs_.global_dof(t[a], c);
-      }
-    }
+    gather(tets[e], s);
     navier_stokes_jacobian(geometry_[e], s, stab_[e], fluid_, c_u, c_a, K);
-    TF_PETSC(MatSetValues(J, 16, rows.data(), 16, cols.data(), &K[0][0], ADD_VALUES));
+    inserter_.add(e, &K[0][0]);
   }
+  inserter_.end();
 
   // Backflow term: d/du_dk of -beta rho int N_a (u.n)_- u_i = -beta rho c_u int N_a N_d
   // (n_k u_i + (u.n) delta_ik) where u.n < 0.
@@ -275,33 +318,29 @@ void FluidProblem::jacobian(Vec U, Mat J) {
       }
       if (!any)
         continue;
-      std::array<PetscInt, 9> brows, bcols;
+      std::array<PetscInt, 9> dofs;
       for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c) {
-          brows[3 * a + c] = row_index(dofs_, dirichlet_[t[a]], t[a], c);
-          bcols[3 * a + c] = dofs_.global_dof(t[a], c);
-        }
-      TF_PETSC(MatSetValues(J, 9, brows.data(), 9, bcols.data(), &Kb[0][0], ADD_VALUES));
+        for (int c = 0; c < 3; ++c)
+          dofs[3 * a + c] = dofs_.global_dof(t[a], c);
+      TF_PETSC(MatSetValues(J, 9, dofs.data(), 9, dofs.data(), &Kb[0][0], ADD_VALUES));
     }
   }
-
-  for (Index l = 0; l < dmesh_.num_owned(); ++l)
-    for (int c = 0; c < 3; ++c)
-      if ((dirichlet_[l] >> c) & 1) {
-        const PetscInt d = dofs_.global_dof(l, c);
-        TF_PETSC(MatSetValue(J, d, d, 1.0, ADD_VALUES));
-      }
   TF_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   TF_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  // Dirichlet rows become identity rows (their residual is U - g); the pattern stays, so
+  // the next assembly finds every entry where the inserter recorded it.
+  TF_PETSC(MatSetOption(J, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  TF_PETSC(MatZeroRows(J, static_cast<PetscInt>(dirichlet_rows_.size()), dirichlet_rows_.data(),
+                       1.0, nullptr, nullptr));
 }
 
 void FluidProblem::add_coupled_outlets(Vec x, Vec y) const {
   for (const OutletData& o : outlets_) {
-    if (o.spec.resistance == 0.0)
+    if (o.law.resistance == 0.0)
       continue;
     PetscScalar vx;
     TF_PETSC(VecDot(o.v, x, &vx));
-    TF_PETSC(VecAXPY(y, o.spec.resistance * scheme_.c_u() * vx, o.v));
+    TF_PETSC(VecAXPY(y, o.law.resistance * scheme_.c_u() * vx, o.v));
   }
 }
 
@@ -320,28 +359,32 @@ std::vector<FaceMeasure> FluidProblem::measure_faces(Vec U) const {
   dofs_.global_to_local(U, U_loc_);
   fem::ReadArray u(U_loc_);
   const auto& x = dmesh_.points();
+  constexpr int per_face = 4; // flow, pressure, area, reversed
   std::vector<double> sums;
   for (const fem::LocalFace& f : dmesh_.faces()) {
-    double area_sum = 0.0, flow = 0.0, pressure = 0.0;
+    double area_sum = 0.0, flow = 0.0, pressure = 0.0, reversed = 0.0;
     for (const Tri& t : f.triangles) {
       double area;
       Vec3 n;
       bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
       area_sum += area;
       for (Index l : t) {
-        flow +=
-            area / 3.0 * (u[block * l] * n[0] + u[block * l + 1] * n[1] + u[block * l + 2] * n[2]);
+        const double un =
+            u[block * l] * n[0] + u[block * l + 1] * n[1] + u[block * l + 2] * n[2];
+        flow += area / 3.0 * un;
+        reversed += area / 3.0 * std::min(un, 0.0);
         pressure += area / 3.0 * u[block * l + 3];
       }
     }
-    sums.insert(sums.end(), {flow, pressure, area_sum});
+    sums.insert(sums.end(), {flow, pressure, area_sum, reversed});
   }
   MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM,
                 dmesh_.comm());
   std::vector<FaceMeasure> out;
-  for (size_t i = 0; i < dmesh_.faces().size(); ++i)
-    out.push_back(
-        {dmesh_.faces()[i].name, sums[3 * i], sums[3 * i + 1] / sums[3 * i + 2], sums[3 * i + 2]});
+  for (size_t i = 0; i < dmesh_.faces().size(); ++i) {
+    const double* s = &sums[per_face * i];
+    out.push_back({dmesh_.faces()[i].name, s[0], s[1] / s[2], s[2], s[3]});
+  }
   return out;
 }
 

@@ -2,15 +2,18 @@
 // The discrete rigid-wall flow problem of one time step: R(U_{n+1}) = 0 with U = (u, p) per
 // node, assembled from navier_stokes_kernel.hpp and the boundary conditions:
 //   - no-slip and inflow velocities are Dirichlet rows  R = U - g(t_{n+1});
-//   - traction outlets add  -<w, h>  with  h = -P n + beta rho (u.n)_- u,  P = P_0 + R_out Q.
-// The outlet resistance couples every node of the face through Q = int u.n; its Jacobian
-// is the low-rank term  R_out c_u v v^T  (v_ai = int N_a n_i), applied matrix-free by
-// add_coupled_outlets so the assembled matrix keeps its sparsity.
+//   - traction outlets add  -<w, h>  with  h = -P n + beta rho (u.n)_- u  and, during a step,
+//     P = p0 + r Q (bc/windkessel.hpp: pressure, resistance and RCR outlets alike).
+// The outlet law couples every node of the face through Q = int u.n; its Jacobian is the
+// low-rank term  r c_u v v^T  (v_ai = int N_a n_i), applied matrix-free by
+// add_coupled_outlets so the assembled matrix keeps its sparsity. The RCR's distal pressure
+// advances in commit_step once the step has converged.
 #include <cstdint>
 #include <vector>
 
 #include "bc/fluid_conditions.hpp"
 #include "fem/dof_map.hpp"
+#include "fem/element_inserter.hpp"
 #include "physics/generalized_alpha.hpp"
 #include "physics/navier_stokes_kernel.hpp"
 
@@ -22,6 +25,7 @@ struct FaceMeasure {
   double flow = 0.0;     ///< outward flux int u.n [m^3/s]
   double pressure = 0.0; ///< area-weighted mean pressure [Pa]
   double area = 0.0;     ///< [m^2]
+  double reversed = 0.0; ///< inward part int (u.n)_- of the flux, <= 0 [m^3/s]
 };
 
 class FluidProblem {
@@ -48,6 +52,21 @@ public:
   /// Udot_{n+1} from U_{n+1} (generalized-alpha update); overwrites Udot.
   void update_acceleration(Vec U_next, Vec U_n, Vec Udot) const;
 
+  /// Advances the outlets' 0D states to t_{n+1} from the converged U_{n+1} (collective).
+  void commit_step(Vec U_next);
+  /// True when some outlet's law has dP/dQ != 0 (resistance or RCR): the Jacobian then
+  /// needs add_coupled_outlets.
+  bool has_coupled_outlets() const;
+
+  /// The 0D state of every traction outlet, in the order of conditions().outlets.
+  struct OutletState {
+    double distal_pressure = 0.0; ///< P_d of an RCR [Pa] (0 for other outlets)
+    double flux = 0.0;            ///< Q at t_n [m^3/s]
+  };
+  std::vector<OutletState> outlet_states() const;
+  void set_outlet_states(const std::vector<OutletState>& states);
+  const bc::FluidConditions& conditions() const { return conditions_; }
+
   std::vector<FaceMeasure> measure_faces(Vec U) const;
 
 private:
@@ -55,7 +74,9 @@ private:
     bc::TractionOutlet spec;
     size_t face_index;
     fem::OwnedVec v; ///< int N_a n_i, zero on Dirichlet dofs
-    double flux = 0.0;
+    double flux = 0.0;    ///< Q_af of the current iterate
+    OutletState state;    ///< at t_n
+    bc::OutletLaw law;    ///< P_af = p0 + r Q_af during the current step
   };
 
   void stage(Vec U); ///< local U -> u_af, udot_am, p per local node
@@ -63,9 +84,13 @@ private:
   void gather(const Tet& t, FluidElementState& s) const;
   void update_outlet_fluxes(); ///< Q of every outlet from u_af (collective)
   double outlet_pressure(const OutletData& o) const;
+  /// Outward flux through every outlet of the nodal velocities velocity(l) -> Vec3 at local
+  /// nodes l (collective).
+  template <typename Velocity> std::vector<double> outlet_fluxes(Velocity&& velocity) const;
 
   const fem::DistributedMesh& dmesh_;
   fem::DofMap dofs_;
+  fem::ElementInserter inserter_;
   FluidProperties fluid_;
   bc::FluidConditions conditions_;
   GeneralizedAlpha scheme_;
@@ -74,6 +99,7 @@ private:
   std::vector<fem::TetGeometry> geometry_; ///< per local tet
   std::vector<Stabilization> stab_;        ///< per local tet, from U_n
   std::vector<std::uint8_t> dirichlet_;    ///< per local node: bit c set if u_c is prescribed
+  std::vector<PetscInt> dirichlet_rows_;   ///< global rows of the owned prescribed dofs
   struct InflowNode {
     Index local;
     size_t inflow, k;

@@ -28,9 +28,16 @@ std::vector<std::pair<const char*, const char*>> default_fluid_options() {
           {"-fluid_pc_fieldsplit_schur_fact_type", "full"},
           {"-fluid_pc_fieldsplit_schur_precondition", "selfp"},
           {"-fluid_fieldsplit_0_ksp_type", "preonly"},
-          {"-fluid_fieldsplit_0_pc_type", "hypre"},
+          {"-fluid_fieldsplit_0_pc_type", "bjacobi"},
           {"-fluid_fieldsplit_1_ksp_type", "preonly"},
-          {"-fluid_fieldsplit_1_pc_type", "hypre"}};
+          {"-fluid_fieldsplit_1_pc_type", "hypre"},
+          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_coarsen_type", "HMIS"},
+          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_interp_type", "ext+i"},
+          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_P_max", "4"},
+          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_agg_nl", "1"},
+          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_strong_threshold", "0.5"},
+          {"-fluid_snes_lag_preconditioner", "3"},
+          {"-fluid_snes_lag_preconditioner_persists", "true"}};
 }
 } // namespace
 
@@ -42,15 +49,7 @@ FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton) : 
   R_ = dofs.create_global();
   P_ = dofs.create_matrix("fluid_");
 
-  // A probe of add_coupled_outlets: nonzero output means some outlet has a resistance.
-  {
-    fem::OwnedVec x = dofs.create_global(), y = dofs.create_global();
-    TF_PETSC(VecSet(x, 1.0));
-    problem.add_coupled_outlets(x, y);
-    PetscReal norm;
-    TF_PETSC(VecNorm(y, NORM_INFINITY, &norm));
-    has_coupled_outlets_ = norm > 0.0;
-  }
+  has_coupled_outlets_ = problem.has_coupled_outlets();
   MPI_Comm comm = dofs.mesh().comm();
   if (has_coupled_outlets_) {
     const PetscInt n = dofs.num_owned_dofs();
@@ -77,10 +76,16 @@ FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton) : 
   TF_PETSC(KSPGMRESSetRestart(ksp, 200));
   TF_PETSC(KSPSetTolerances(ksp, 1e-4, 1e-14, PETSC_DEFAULT, 1000));
   // Default preconditioner: Schur-complement field split of velocity (dofs 0-2) and
-  // pressure (dof 3), BoomerAMG on the velocity block and on the selfp approximation of the
-  // Schur complement. ILU(0) on the coupled system was measured to stall on pipe-rcr
-  // (170 k tets: > 1000 GMRES iterations at dt = 5 ms); this split needs ~12 per Newton
-  // iteration there. Entered only where the user set nothing, so any PETSc option wins.
+  // pressure (dof 3). The velocity block is dominated by the mass matrix / dt at cardiac
+  // time steps, so block-Jacobi ILU(0) suffices; the selfp Schur approximation is a
+  // pressure Laplacian and gets BoomerAMG with the HMIS / ext+i settings for 3D problems
+  // (cheaper setup and V-cycle than the default Falgout coarsening at equal iterations).
+  // The preconditioner is rebuilt every third Newton iteration, across time steps: the
+  // operator changes little from one iteration to the next and GMRES absorbs the lag.
+  // Measured on pipe-rcr (170 k tets, dt = 5 ms, 1 rank): 20 s/step with BoomerAMG on both
+  // blocks rebuilt every iteration, 2.9 s/step with these defaults, same Newton iterations;
+  // ILU(0) on the coupled system stalled (> 1000 GMRES iterations). Entered only where the
+  // user set nothing, so any PETSc option wins.
   for (const auto& [name, value] : default_fluid_options())
     if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name, &set) == 0 && !set)
       TF_PETSC(PetscOptionsSetValue(nullptr, name, value));
@@ -160,6 +165,7 @@ StepReport FluidSolver::step(double t, double dt) {
                                   t, t + dt, its, fnorm, report.residual_initial, why));
   }
   problem_.update_acceleration(U_, U_prev_, Udot_);
+  problem_.commit_step(U_);
   return report;
 }
 

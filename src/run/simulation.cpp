@@ -6,10 +6,12 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "core/units.hpp"
 #include "io/checkpoint.hpp"
 #include "io/vtu_series.hpp"
 #include "mesh/orient_faces.hpp"
 #include "mesh/readers.hpp"
+#include "run/startup.hpp"
 
 namespace tearflow::run {
 
@@ -38,10 +40,15 @@ bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m) {
       break;
     }
     case io::BcType::Pressure:
-      out.outlets.push_back({b.face, b.pressure, 0.0, b.backflow_beta});
+      out.outlets.push_back({b.face, b.pressure, 0.0, b.backflow_beta, {}, 0.0});
       break;
     case io::BcType::Resistance:
-      out.outlets.push_back({b.face, bc::Waveform::constant(0.0), b.resistance, b.backflow_beta});
+      out.outlets.push_back({b.face, bc::Waveform::constant(b.distal_pressure), b.resistance,
+                             b.backflow_beta, {}, 0.0});
+      break;
+    case io::BcType::Windkessel:
+      out.outlets.push_back({b.face, bc::Waveform::constant(0.0), 0.0, b.backflow_beta, b.rcr,
+                             b.initial_distal_pressure.value_or(0.0)});
       break;
     }
   }
@@ -51,7 +58,6 @@ bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m) {
 struct Simulation::Output {
   std::filesystem::path dir;
   std::unique_ptr<io::VtuSeries> series;
-  std::vector<std::string> face_rows; ///< faces.csv body, one row per face and step
 };
 
 Simulation::Simulation(io::Case c, MPI_Comm comm) : case_(std::move(c)), mesh_(load_mesh(case_)) {
@@ -61,6 +67,62 @@ Simulation::Simulation(io::Case c, MPI_Comm comm) : case_(std::move(c)), mesh_(l
       make_conditions(case_, mesh_),
       physics::GeneralizedAlpha::from_spectral_radius(case_.time.spectral_radius));
   solver_ = std::make_unique<physics::FluidSolver>(*problem_, case_.newton);
+  if (case_.time.start_from_0d)
+    start_from_0d();
+}
+
+void Simulation::start_from_0d() {
+  const std::optional<OutletModel> model = outlet_model(problem_->conditions());
+  if (!model)
+    return;
+  const bc::PeriodicState periodic = model->network.periodic(model->inflow);
+  std::vector<physics::FluidProblem::OutletState> states = problem_->outlet_states();
+  std::string told;
+  for (size_t i = 0; i < model->outlet.size(); ++i) {
+    const io::BoundaryCondition& b = bc_of(problem_->conditions().outlets[model->outlet[i]].face);
+    if (b.type != io::BcType::Windkessel || b.initial_distal_pressure)
+      continue; // a given initial distal pressure wins
+    states[model->outlet[i]].distal_pressure = periodic.distal_pressure(i, 0.0);
+    told += fmt::format(" {} {:.1f} mmHg", b.face, periodic.distal_pressure(i, 0.0) / units::mmHg);
+  }
+  problem_->set_outlet_states(states);
+  // The pressure field starts at the 0D inlet pressure: a good first Newton guess.
+  const double p0 = periodic.inlet_pressure(0.0);
+  fem::WriteArray u(solver_->solution());
+  for (Index l = 0; l < dmesh_->num_owned(); ++l)
+    u[physics::FluidProblem::block * l + 3] = p0;
+  if (fem::mpi_rank(dmesh_->comm()) == 0)
+    spdlog::info("start from the periodic 0D state at t = 0: pressure {:.1f} mmHg; distal "
+                 "pressures{}",
+                 p0 / units::mmHg, told.empty() ? " as given" : told);
+}
+
+const io::BoundaryCondition& Simulation::bc_of(const std::string& face) const {
+  for (const io::BoundaryCondition& b : case_.boundary_conditions)
+    if (b.face == face)
+      return b;
+  throw std::logic_error("no boundary condition on face " + face);
+}
+
+std::vector<std::string> Simulation::outlet_faces() const {
+  std::vector<std::string> out;
+  for (const bc::TractionOutlet& o : problem_->conditions().outlets)
+    out.push_back(o.face);
+  return out;
+}
+
+StepSample Simulation::sample() const {
+  StepSample s{step_, time(), {}};
+  const std::vector<physics::FluidProblem::OutletState> states = problem_->outlet_states();
+  const auto& outlets = problem_->conditions().outlets;
+  for (const physics::FaceMeasure& m : problem_->measure_faces(solver_->solution())) {
+    FaceSample f{m, std::nullopt};
+    for (size_t i = 0; i < outlets.size(); ++i)
+      if (outlets[i].face == m.face && outlets[i].rcr)
+        f.distal_pressure = states[i].distal_pressure;
+    s.faces.push_back(f);
+  }
+  return s;
 }
 
 Simulation::~Simulation() = default;
@@ -119,23 +181,18 @@ void Simulation::write_frame() {
   output_->series->write(step_, time(), {velocity, pressure});
 }
 
-void Simulation::append_face_rows(std::vector<std::string>& rows) const {
-  for (const physics::FaceMeasure& f : problem_->measure_faces(solver_->solution()))
-    rows.push_back(fmt::format("{},{:.10g},{},{:.10e},{:.10e},{:.10e}", step_, time(), f.face,
-                               f.flow, f.pressure, f.area));
-}
-
 RunSummary Simulation::run(const RunOptions& options) {
   const bool root = fem::mpi_rank(dmesh_->comm()) == 0;
   output_ = std::make_unique<Output>();
   output_->dir = case_.output.directory;
   const std::filesystem::path checkpoint_file = output_->dir / "checkpoint.bin";
   const std::filesystem::path faces_csv = output_->dir / "faces.csv";
-  const std::string faces_header = "step,time_s,face,flow_m3_per_s,pressure_Pa,area_m2";
+  const std::filesystem::path cycles_json = output_->dir / "cycles.json";
   if (root && options.write_output) {
     std::filesystem::create_directories(output_->dir);
     output_->series = std::make_unique<io::VtuSeries>(mesh_, output_->dir, "flow");
   }
+  RunRecord record(outlet_faces(), case_.time.steps_per_cycle, case_.time.period);
 
   if (options.restart) {
     const io::Checkpoint c = io::read_checkpoint(checkpoint_file);
@@ -144,31 +201,28 @@ RunSummary Simulation::run(const RunOptions& options) {
                   checkpoint_file.string(), c.num_nodes, c.block, mesh_.num_nodes(),
                   physics::FluidProblem::block);
     set_state(static_cast<int>(c.step), c.solution, c.derivative);
-    if (root && options.write_output) {
-      output_->series->load_existing();
-      output_->series->truncate_after(time());
-      std::ifstream in(faces_csv);
-      std::string line;
-      std::getline(in, line); // header
-      while (std::getline(in, line))
-        if (std::stoi(line.substr(0, line.find(','))) <= step_)
-          output_->face_rows.push_back(line);
+    set_outlet_checkpoint(c.extra, checkpoint_file);
+    if (options.write_output) {
+      record.load_csv(faces_csv, step_); // every rank: all must agree on periodicity
+      if (root) {
+        output_->series->load_existing();
+        output_->series->truncate_after(time());
+      }
     }
     if (root && options.progress)
       fmt::print("restarting from step {} (t = {:.6g} s) of '{}'\n", step_, time(),
                  checkpoint_file.string());
   } else if (options.write_output) {
     write_frame();
-    append_face_rows(output_->face_rows);
+    record.add(sample());
   }
 
-  auto write_faces_csv = [&] {
+  auto write_record = [&] {
     if (!root || !options.write_output)
       return;
-    std::string text = faces_header + "\n";
-    for (const std::string& r : output_->face_rows)
-      text += r + "\n";
-    io::write_file_atomically(faces_csv, text);
+    io::write_file_atomically(faces_csv, record.csv());
+    if (case_.time.steps_per_cycle > 0)
+      io::write_file_atomically(cycles_json, record.cycles_json().dump(2) + "\n");
   };
   auto write_checkpoint = [&] {
     io::Checkpoint c;
@@ -178,6 +232,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     c.block = physics::FluidProblem::block;
     c.solution = gather(solver_->solution());
     c.derivative = gather(solver_->acceleration());
+    c.extra = outlet_checkpoint();
     if (root)
       io::write_checkpoint(checkpoint_file, c);
   };
@@ -185,12 +240,13 @@ RunSummary Simulation::run(const RunOptions& options) {
   RunSummary summary;
   const double start = MPI_Wtime();
   const int total = case_.time.steps;
-  while (step_ < total) {
+  bool periodic = false;
+  while (step_ < total && !periodic) {
     physics::StepReport r;
     try {
       r = advance();
     } catch (const SolverError& e) {
-      write_faces_csv();
+      write_record();
       throw SolverError(fmt::format("{} (step {}). {}", e.what(), step_ + 1,
                                     case_.output.checkpoint_every > 0 && options.write_output
                                         ? "The last good checkpoint is kept in '" +
@@ -199,14 +255,20 @@ RunSummary Simulation::run(const RunOptions& options) {
     }
     summary.reports.push_back(r);
     ++summary.steps;
+    std::optional<analysis::CycleStats> cycle = record.add(sample());
+    if (cycle) {
+      periodic = case_.time.periodicity_tolerance > 0.0 && cycle->change &&
+                 *cycle->change < case_.time.periodicity_tolerance;
+      if (root && options.progress)
+        report_cycle(*cycle, periodic);
+    }
     if (options.write_output) {
-      append_face_rows(output_->face_rows);
-      const bool last = step_ == total;
+      const bool last = step_ == total || periodic;
       if ((case_.output.every > 0 && step_ % case_.output.every == 0) || last)
         write_frame();
       if (case_.output.checkpoint_every > 0 &&
           (step_ % case_.output.checkpoint_every == 0 || last)) {
-        write_faces_csv();
+        write_record();
         write_checkpoint();
       }
     }
@@ -221,9 +283,57 @@ RunSummary Simulation::run(const RunOptions& options) {
       std::fflush(stdout);
     }
   }
-  write_faces_csv();
+  write_record();
+  if (case_.time.periodicity_tolerance > 0.0 && !periodic && root)
+    spdlog::warn("not periodic within {} after {} cycles (last change {:.3g}); raise "
+                 "time.periodicity.max_cycles to continue with --restart",
+                 case_.time.periodicity_tolerance, record.cycles().size(),
+                 record.cycles().empty() || !record.cycles().back().change
+                     ? 0.0
+                     : *record.cycles().back().change);
   summary.wall_seconds = MPI_Wtime() - start;
+  summary.periodic = periodic;
+  summary.cycles = record.cycles();
   return summary;
+}
+
+void Simulation::report_cycle(const analysis::CycleStats& c, bool periodic) const {
+  std::string faces;
+  for (const analysis::FaceCycleStats& f : c.faces) {
+    if (!f.split_percent)
+      continue;
+    faces += fmt::format("  {}: {:.1f}/{:.1f} ({:.1f}) mmHg, {:.1f} %", f.face,
+                         f.systolic / units::mmHg, f.diastolic / units::mmHg, f.mean / units::mmHg,
+                         *f.split_percent);
+    const bc::TractionOutlet* o = nullptr;
+    for (const bc::TractionOutlet& t : problem_->conditions().outlets)
+      if (t.face == f.face)
+        o = &t;
+    if (o && f.reversed_volume > 1e-3 * std::abs(f.volume))
+      faces += fmt::format(" (reversed {:.2g} mL{})", f.reversed_volume / units::mL,
+                           o->backflow_beta == 0.0 ? ", no backflow stabilization" : "");
+  }
+  fmt::print("cycle {} (t = {:.4g}-{:.4g} s): change {}{}{}\n", c.cycle + 1, c.t_begin, c.t_end,
+             c.change ? fmt::format("{:.2e}", *c.change) : std::string("-"),
+             periodic ? " (periodic)" : "", faces);
+}
+
+std::vector<double> Simulation::outlet_checkpoint() const {
+  std::vector<double> extra;
+  for (const physics::FluidProblem::OutletState& s : problem_->outlet_states())
+    extra.insert(extra.end(), {s.distal_pressure, s.flux});
+  return extra;
+}
+
+void Simulation::set_outlet_checkpoint(const std::vector<double>& extra,
+                                       const std::filesystem::path& file) {
+  std::vector<physics::FluidProblem::OutletState> states = problem_->outlet_states();
+  if (extra.size() != 2 * states.size())
+    input_error("checkpoint '{}' holds the state of {} outlets, the case has {}", file.string(),
+                extra.size() / 2, states.size());
+  for (size_t i = 0; i < states.size(); ++i)
+    states[i] = {extra[2 * i], extra[2 * i + 1]};
+  problem_->set_outlet_states(states);
 }
 
 } // namespace tearflow::run

@@ -8,6 +8,7 @@
 #include "fem/distributed_mesh.hpp"
 #include "io/case.hpp"
 #include "physics/fluid_solver.hpp"
+#include "run/run_record.hpp"
 
 namespace tearflow::run {
 
@@ -21,6 +22,8 @@ struct RunSummary {
   int steps = 0; ///< steps taken by this call
   double wall_seconds = 0.0;
   std::vector<physics::StepReport> reports;
+  bool periodic = false;                    ///< stopped by the periodicity tolerance
+  std::vector<analysis::CycleStats> cycles; ///< every complete cycle of the run
 };
 
 /// The case's mesh in SI units with outward-oriented faces, checked against the case.
@@ -48,9 +51,17 @@ public:
   /// Sets (U, Udot) from full vectors in the input mesh's node order; sets the step.
   void set_state(int step, const std::vector<double>& U, const std::vector<double>& Udot);
 
+  /// The face measures of the current state (collective).
+  StepSample sample() const;
+
 private:
+  void start_from_0d();
   void write_frame();
-  void append_face_rows(std::vector<std::string>& rows) const;
+  void report_cycle(const analysis::CycleStats& c, bool periodic) const;
+  std::vector<double> outlet_checkpoint() const;
+  void set_outlet_checkpoint(const std::vector<double>& extra, const std::filesystem::path& file);
+  const io::BoundaryCondition& bc_of(const std::string& face) const;
+  std::vector<std::string> outlet_faces() const;
 
   io::Case case_;
   mesh::Mesh mesh_;

@@ -1,0 +1,63 @@
+#pragma once
+// What a run records besides the fields: per step and named face the flow, mean pressure,
+// area, reversed flow and (RCR outlets) distal pressure, written as faces.csv; per complete
+// cardiac cycle the face statistics and the cycle-to-cycle change, written as cycles.json.
+// Every rank holds the same record (the face measures are reduced over all ranks), so all
+// of them agree on when a run has become periodic.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/cycle_summary.hpp"
+#include "physics/fluid_problem.hpp"
+
+namespace tearflow::run {
+
+struct FaceSample {
+  physics::FaceMeasure measure;
+  std::optional<double> distal_pressure; ///< RCR outlets only [Pa]
+};
+
+struct StepSample {
+  int step = 0;
+  double time = 0.0;
+  std::vector<FaceSample> faces; ///< in the mesh's face order
+};
+
+class RunRecord {
+public:
+  /// `outlets` name the traction-outlet faces (flow split, periodicity); steps_per_cycle 0
+  /// when the run has no cardiac period.
+  RunRecord(std::vector<std::string> outlets, int steps_per_cycle, double period);
+
+  static constexpr const char* csv_header =
+      "step,time_s,face,flow_m3_per_s,pressure_Pa,area_m2,reversed_flow_m3_per_s,"
+      "distal_pressure_Pa";
+
+  /// Appends the samples of one step (steps in increasing order). Returns the statistics of
+  /// the cycle this step completes, if it completes one.
+  std::optional<analysis::CycleStats> add(StepSample sample);
+
+  /// Reads faces.csv of an earlier run up to and including `last_step` (a restart), and
+  /// rebuilds the statistics of its complete cycles. InputError naming the file and line on
+  /// a malformed row.
+  void load_csv(const std::filesystem::path& file, int last_step);
+
+  std::string csv() const;
+  const std::vector<StepSample>& samples() const { return samples_; }
+  const std::vector<analysis::CycleStats>& cycles() const { return cycles_; }
+  nlohmann::json cycles_json() const { return analysis::cycles_to_json(period_, cycles_); }
+  int steps_per_cycle() const { return steps_per_cycle_; }
+
+private:
+  analysis::CycleSamples cycle_samples(int cycle) const;
+
+  std::vector<std::string> outlets_;
+  int steps_per_cycle_ = 0;
+  double period_ = 0.0;
+  std::vector<StepSample> samples_;
+  std::vector<analysis::CycleStats> cycles_;
+};
+
+} // namespace tearflow::run
