@@ -10,6 +10,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <petscsys.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include "core/error.hpp"
 #include "fem/petsc.hpp"
@@ -71,6 +73,8 @@ int verify_command(const std::string& name, bool list, bool convergence, double 
 } // namespace
 
 int main(int argc, char** argv) {
+  // Log lines go to stderr: stdout carries results (verify prints JSON there).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("tearflow"));
   // Split at `--`: ours before, PETSc's after.
   std::vector<char*> ours, petsc{argv[0]};
   std::string cli_petsc;

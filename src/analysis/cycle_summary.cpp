@@ -55,8 +55,7 @@ CycleStats summarize_cycle(const CycleSamples& samples) {
 }
 
 double cycle_change(const CycleSamples& previous, const CycleSamples& current) {
-  if (previous.time.size() != current.time.size() ||
-      previous.faces.size() != current.faces.size())
+  if (previous.time.size() != current.time.size() || previous.faces.size() != current.faces.size())
     throw std::logic_error("cycles of different lengths cannot be compared");
   double change = 0.0;
   for (size_t i = 0; i < current.faces.size(); ++i) {
@@ -96,7 +95,8 @@ nlohmann::json cycles_to_json(double period, const std::vector<CycleStats>& cycl
       g["net_outflow_volume_m3"] = f.volume;
       g["net_outflow_volume_mL"] = f.volume / units::mL;
       g["reversed_volume_mL"] = f.reversed_volume / units::mL;
-      g["flow_split_percent"] = f.split_percent ? nlohmann::json(*f.split_percent) : nlohmann::json();
+      g["flow_split_percent"] =
+          f.split_percent ? nlohmann::json(*f.split_percent) : nlohmann::json();
     }
     out["cycles"].push_back(j);
   }

@@ -19,10 +19,10 @@ namespace tearflow::analysis {
 
 struct FaceSeries {
   std::string face;
-  bool outlet = false;           ///< counts in the flow split and the periodicity change
-  std::vector<double> flow;      ///< outward flux per sample [m^3/s]
-  std::vector<double> pressure;  ///< mean pressure per sample [Pa]
-  std::vector<double> reversed;  ///< reversed (inward) part of the flux per sample [m^3/s]
+  bool outlet = false;          ///< counts in the flow split and the periodicity change
+  std::vector<double> flow;     ///< outward flux per sample [m^3/s]
+  std::vector<double> pressure; ///< mean pressure per sample [Pa]
+  std::vector<double> reversed; ///< reversed (inward) part of the flux per sample [m^3/s]
 };
 
 struct CycleSamples {

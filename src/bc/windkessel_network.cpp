@@ -69,16 +69,15 @@ PeriodicState WindkesselNetwork::periodic(const Waveform& inflow, int modes) con
       const WindkesselRCR& r = branches_[i].rcr;
       const C ref = n == 0 ? C(r.reference_pressure) : C(0.0);
       s.flow_[i][n] = (p - ref) / impedance(i, omega);
-      s.distal_[i][n] =
-          ref + s.flow_[i][n] * r.distal_resistance /
-                    (1.0 + 1i * omega * r.distal_resistance * r.capacitance);
+      s.distal_[i][n] = ref + s.flow_[i][n] * r.distal_resistance /
+                                  (1.0 + 1i * omega * r.distal_resistance * r.capacitance);
     }
   }
   return s;
 }
 
-NetworkHistory WindkesselNetwork::integrate(const Waveform& inflow, double t0, double dt,
-                                            int steps, std::vector<double> pd) const {
+NetworkHistory WindkesselNetwork::integrate(const Waveform& inflow, double t0, double dt, int steps,
+                                            std::vector<double> pd) const {
   const size_t nb = branches_.size();
   if (pd.size() != nb)
     input_error("{} initial distal pressures for {} outlet branches", pd.size(), nb);

@@ -171,8 +171,8 @@ void ElementInserter::record_offsets() {
           const PetscInt row = static_cast<PetscInt>(bs) * tets[e][a] + c;
           const Csr& m = in_diag ? d : o;
           const std::int32_t pos = find_in_row(m, row, col);
-          uniform = pos >= 0 && (c == 0 || pos == first) &&
-                    pos + bs <= m.rows[row + 1] - m.rows[row];
+          uniform =
+              pos >= 0 && (c == 0 || pos == first) && pos + bs <= m.rows[row + 1] - m.rows[row];
           for (int k = 1; k < bs && uniform; ++k)
             uniform = m.cols[m.rows[row] + pos + k] == col + k;
           first = c == 0 ? pos : first;

@@ -3,6 +3,7 @@
 // load_case reads YAML, rejects unknown keys and bad values with the file, line and key;
 // docs/case-file.md documents every key.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,8 @@ struct MeshSpec {
   std::filesystem::path file;         ///< .msh or SimVascular directory (absolute), or empty
   double length_scale = 1.0;          ///< metres per mesh unit (`units: mm` gives 1e-3)
   std::optional<mesh::PipeSpec> pipe; ///< built-in pipe instead of a file
+  /// Built-in geometry of verification cases (not from case files); wins over the others.
+  std::function<mesh::Mesh()> generator;
 };
 
 struct FluidSpec {

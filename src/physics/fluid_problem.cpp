@@ -147,9 +147,8 @@ void FluidProblem::commit_step(Vec U_next) {
 }
 
 bool FluidProblem::has_coupled_outlets() const {
-  return std::any_of(outlets_.begin(), outlets_.end(), [](const OutletData& o) {
-    return o.spec.rcr || o.spec.resistance != 0.0;
-  });
+  return std::any_of(outlets_.begin(), outlets_.end(),
+                     [](const OutletData& o) { return o.spec.rcr || o.spec.resistance != 0.0; });
 }
 
 std::vector<FluidProblem::OutletState> FluidProblem::outlet_states() const {
@@ -369,8 +368,7 @@ std::vector<FaceMeasure> FluidProblem::measure_faces(Vec U) const {
       bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
       area_sum += area;
       for (Index l : t) {
-        const double un =
-            u[block * l] * n[0] + u[block * l + 1] * n[1] + u[block * l + 2] * n[2];
+        const double un = u[block * l] * n[0] + u[block * l + 1] * n[1] + u[block * l + 2] * n[2];
         flow += area / 3.0 * un;
         reversed += area / 3.0 * std::min(un, 0.0);
         pressure += area / 3.0 * u[block * l + 3];

@@ -73,10 +73,10 @@ private:
   struct OutletData {
     bc::TractionOutlet spec;
     size_t face_index;
-    fem::OwnedVec v; ///< int N_a n_i, zero on Dirichlet dofs
-    double flux = 0.0;    ///< Q_af of the current iterate
-    OutletState state;    ///< at t_n
-    bc::OutletLaw law;    ///< P_af = p0 + r Q_af during the current step
+    fem::OwnedVec v;   ///< int N_a n_i, zero on Dirichlet dofs
+    double flux = 0.0; ///< Q_af of the current iterate
+    OutletState state; ///< at t_n
+    bc::OutletLaw law; ///< P_af = p0 + r Q_af during the current step
   };
 
   void stage(Vec U); ///< local U -> u_af, udot_am, p per local node

@@ -22,8 +22,8 @@ std::optional<analysis::CycleStats> RunRecord::add(StepSample sample) {
   const int cycle = step / n - 1;
   // The cycle is complete only if its first sample is recorded (not so after a restart
   // from a checkpoint whose faces.csv lost rows).
-  if (samples_.size() < static_cast<size_t>(n + 1) || samples_[samples_.size() - n - 1].step !=
-                                                          step - n)
+  if (samples_.size() < static_cast<size_t>(n + 1) ||
+      samples_[samples_.size() - n - 1].step != step - n)
     return std::nullopt;
   const analysis::CycleSamples current = cycle_samples(cycle);
   analysis::CycleStats stats = analysis::summarize_cycle(current);
@@ -43,8 +43,8 @@ analysis::CycleSamples RunRecord::cycle_samples(int cycle) const {
   c.cycle = cycle;
   for (size_t f = 0; f < begin->faces.size(); ++f) {
     const std::string& name = begin->faces[f].measure.face;
-    c.faces.push_back({name, std::find(outlets_.begin(), outlets_.end(), name) != outlets_.end(),
-                       {}, {}, {}});
+    c.faces.push_back(
+        {name, std::find(outlets_.begin(), outlets_.end(), name) != outlets_.end(), {}, {}, {}});
   }
   for (auto it = begin; it != begin + n + 1; ++it) {
     c.time.push_back(it->time);
@@ -103,8 +103,7 @@ void RunRecord::load_csv(const std::filesystem::path& file, int last_step) {
         f.distal_pressure = std::stod(cells[7]);
       rows.back().faces.push_back(f);
     } catch (const std::exception&) {
-      input_error("{}:{}: expected {} numbers, got '{}'", file.string(), number, csv_header,
-                  line);
+      input_error("{}:{}: expected {} numbers, got '{}'", file.string(), number, csv_header, line);
     }
   }
   for (StepSample& s : rows)

@@ -16,8 +16,9 @@
 namespace tearflow::run {
 
 mesh::Mesh load_mesh(const io::Case& c) {
-  mesh::Mesh m = c.mesh.pipe ? mesh::make_pipe(*c.mesh.pipe)
-                             : mesh::read_mesh(c.mesh.file, c.mesh.length_scale);
+  mesh::Mesh m = c.mesh.generator ? c.mesh.generator()
+                 : c.mesh.pipe    ? mesh::make_pipe(*c.mesh.pipe)
+                                  : mesh::read_mesh(c.mesh.file, c.mesh.length_scale);
   mesh::orient_faces_outward(m);
   io::check_case_against_mesh(c, m);
   return m;
@@ -43,8 +44,12 @@ bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m) {
       out.outlets.push_back({b.face, b.pressure, 0.0, b.backflow_beta, {}, 0.0});
       break;
     case io::BcType::Resistance:
-      out.outlets.push_back({b.face, bc::Waveform::constant(b.distal_pressure), b.resistance,
-                             b.backflow_beta, {}, 0.0});
+      out.outlets.push_back({b.face,
+                             bc::Waveform::constant(b.distal_pressure),
+                             b.resistance,
+                             b.backflow_beta,
+                             {},
+                             0.0});
       break;
     case io::BcType::Windkessel:
       out.outlets.push_back({b.face, bc::Waveform::constant(0.0), 0.0, b.backflow_beta, b.rcr,
@@ -302,9 +307,9 @@ void Simulation::report_cycle(const analysis::CycleStats& c, bool periodic) cons
   for (const analysis::FaceCycleStats& f : c.faces) {
     if (!f.split_percent)
       continue;
-    faces += fmt::format("  {}: {:.1f}/{:.1f} ({:.1f}) mmHg, {:.1f} %", f.face,
-                         f.systolic / units::mmHg, f.diastolic / units::mmHg, f.mean / units::mmHg,
-                         *f.split_percent);
+    faces +=
+        fmt::format("  {}: {:.1f}/{:.1f} ({:.1f}) mmHg, {:.1f} %", f.face, f.systolic / units::mmHg,
+                    f.diastolic / units::mmHg, f.mean / units::mmHg, *f.split_percent);
     const bc::TractionOutlet* o = nullptr;
     for (const bc::TractionOutlet& t : problem_->conditions().outlets)
       if (t.face == f.face)

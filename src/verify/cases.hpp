@@ -6,5 +6,8 @@ namespace tearflow::verify {
 
 VerificationResult verify_poiseuille(const VerifyOptions& options);
 VerificationResult verify_womersley(const VerifyOptions& options);
+// Outlets (rcr.cpp, splits.cpp).
+VerificationResult verify_rcr(const VerifyOptions& options);
+VerificationResult verify_splits(const VerifyOptions& options);
 
 } // namespace tearflow::verify

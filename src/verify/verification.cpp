@@ -34,6 +34,14 @@ const std::map<std::string, VerificationCase>& verification_cases() {
        {"pulsatile flow in a rigid pipe (Womersley number ~12) against the "
         "analytic Womersley profile over one cycle",
         verify_womersley}},
+      {"rcr",
+       {"rigid pipe closed by an RCR Windkessel: periodic outlet pressure against the RCR "
+        "ODE's exact periodic solution",
+        verify_rcr}},
+      {"splits",
+       {"three-outlet junction with RCR outlets: flow split of the 3D run against the 0D "
+        "model of the outlets",
+        verify_splits}},
   };
   return cases;
 }

@@ -1,0 +1,145 @@
+// The 0D outlet models: the RCR step law, the network's exact periodic state and its
+// trapezoidal integration, and the per-cycle statistics.
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "analysis/cycle_summary.hpp"
+#include "bc/windkessel_network.hpp"
+#include "core/error.hpp"
+
+using namespace tearflow;
+
+namespace {
+
+const bc::WindkesselRCR kRcr{2e7, 1.5e-9, 2e8, 500.0}; // R_d C = 0.3 s
+
+bc::Waveform inflow() {
+  std::vector<double> t, q;
+  for (int k = 0; k < 100; ++k) {
+    const double s = 2.0 * std::numbers::pi * k / 100.0;
+    t.push_back(k / 100.0);
+    q.push_back(5e-6 * (1.0 - std::cos(s)) * (1.0 + 0.5 * std::sin(s)));
+  }
+  return bc::Waveform::periodic(t, q, 1.0, "test");
+}
+
+} // namespace
+
+TEST(Windkessel, StepLawIsTheTrapezoidalRuleAtAlphaF) {
+  // The law P_af = p0 + r Q_af must equal P_d interpolated to t_af plus R_p Q_af, with P_d
+  // advanced by the trapezoidal rule, for any end-of-step flux.
+  const double pd_n = 900.0, q_n = 3e-6, dt = 0.01, af = 2.0 / 3.0;
+  const bc::OutletLaw law = bc::rcr_law(kRcr, pd_n, q_n, dt, af);
+  for (double q_next : {0.0, 4e-6, -2e-6}) {
+    const double pd_next = bc::distal_update(kRcr, pd_n, q_n, dt)(q_next);
+    // The update satisfies the discrete ODE exactly.
+    const double lhs = kRcr.capacitance * (pd_next - pd_n) / dt;
+    const double rhs = 0.5 * (q_n + q_next) -
+                       (0.5 * (pd_n + pd_next) - kRcr.reference_pressure) / kRcr.distal_resistance;
+    EXPECT_NEAR(lhs, rhs, 1e-12 * std::abs(q_n));
+    const double q_af = q_n + af * (q_next - q_n);
+    const double expected = pd_n + af * (pd_next - pd_n) + kRcr.proximal_resistance * q_af;
+    EXPECT_NEAR(law.p0 + law.resistance * q_af, expected, 1e-9 * expected);
+  }
+}
+
+TEST(WindkesselNetwork, PeriodicStateSolvesTheOde) {
+  const bc::WindkesselNetwork net({{"out", kRcr}});
+  const bc::PeriodicState s = net.periodic(inflow());
+  // C dP_d/dt = Q - (P_d - P_ref)/R_d and P = P_d + R_p Q at several times; the derivative
+  // by a central difference with h = 1e-5 s (error ~ h^2 |P_d'''| / 6, far below 1e-6 of Q).
+  for (double t : {0.05, 0.3, 0.61, 0.9}) {
+    const double h = 1e-5;
+    const double dpd = (s.distal_pressure(0, t + h) - s.distal_pressure(0, t - h)) / (2 * h);
+    const double q = s.branch_flow(0, t);
+    EXPECT_NEAR(kRcr.capacitance * dpd,
+                q - (s.distal_pressure(0, t) - kRcr.reference_pressure) / kRcr.distal_resistance,
+                1e-6 * 5e-6);
+    EXPECT_NEAR(s.node_pressure(t), s.distal_pressure(0, t) + kRcr.proximal_resistance * q, 1e-6);
+    // One branch takes all the flow, up to the truncation of the Fourier series at 128
+    // harmonics: a C2 spline's coefficients decay like n^-4, so the tail is ~128^-3 ~ 5e-7.
+    EXPECT_NEAR(q, inflow()(t), 1e-6 * 5e-6);
+  }
+  // Periodic: the state repeats.
+  EXPECT_NEAR(s.distal_pressure(0, 0.2), s.distal_pressure(0, 1.2), 1e-9);
+}
+
+TEST(WindkesselNetwork, ParallelBranchesSplitTheMeanFlowByResistance) {
+  bc::WindkesselRCR a = kRcr, b = kRcr;
+  a.reference_pressure = b.reference_pressure = 0.0;
+  b.proximal_resistance *= 3.0;
+  b.distal_resistance *= 3.0;
+  const bc::PeriodicState s = bc::WindkesselNetwork({{"a", a}, {"b", b}}).periodic(inflow());
+  EXPECT_NEAR(s.mean_branch_flow(0) / (s.mean_branch_flow(0) + s.mean_branch_flow(1)), 0.75, 1e-12);
+  for (double t : {0.1, 0.5})
+    EXPECT_NEAR(s.branch_flow(0, t) + s.branch_flow(1, t), inflow()(t), 1e-6 * 5e-6); // as above
+}
+
+TEST(WindkesselNetwork, TrapezoidalIntegrationConvergesAtSecondOrder) {
+  const bc::WindkesselNetwork net({{"out", kRcr}});
+  const bc::Waveform q = inflow();
+  const bc::PeriodicState exact = net.periodic(q);
+  // Start on the periodic state and integrate one cycle: the error at its end halves twice
+  // per halving of dt if the scheme is second order.
+  std::vector<double> errors;
+  for (int steps : {50, 100, 200}) {
+    const bc::NetworkHistory h =
+        net.integrate(q, 0.0, 1.0 / steps, steps, {exact.distal_pressure(0, 0.0)});
+    double e = 0.0;
+    for (size_t k = 0; k < h.time.size(); ++k)
+      e = std::max(e, std::abs(h.distal_pressure[0][k] - exact.distal_pressure(0, h.time[k])));
+    errors.push_back(e);
+  }
+  for (size_t i = 1; i < errors.size(); ++i) {
+    const double rate = std::log2(errors[i - 1] / errors[i]);
+    EXPECT_GT(rate, 1.8) << "errors " << errors[i - 1] << " -> " << errors[i];
+  }
+}
+
+TEST(WindkesselNetwork, RejectsBadBranches) {
+  bc::WindkesselRCR bad = kRcr;
+  bad.distal_resistance = 0.0;
+  EXPECT_THROW(bc::WindkesselNetwork({{"x", bad}}), InputError);
+  bad = kRcr;
+  bad.capacitance = -1.0;
+  EXPECT_THROW(bc::WindkesselNetwork({{"x", bad}}), InputError);
+  EXPECT_THROW(bc::WindkesselNetwork({}), InputError);
+}
+
+TEST(CycleSummary, StatisticsOfAKnownCycle) {
+  // P = 100 + 20 sin(2 pi t), Q_a = 2 (1 + sin), Q_b = 1 + sin over one cycle of 400 steps.
+  analysis::CycleSamples c;
+  c.faces = {{"a", true, {}, {}, {}}, {"b", true, {}, {}, {}}, {"inlet", false, {}, {}, {}}};
+  const int n = 400;
+  for (int k = 0; k <= n; ++k) {
+    const double t = static_cast<double>(k) / n, s = std::sin(2 * std::numbers::pi * t);
+    c.time.push_back(t);
+    c.faces[0].flow.push_back(2.0 * (1.0 + s));
+    c.faces[1].flow.push_back(1.0 + s);
+    c.faces[2].flow.push_back(-3.0 * (1.0 + s));
+    for (auto& f : c.faces) {
+      f.pressure.push_back(100.0 + 20.0 * s);
+      f.reversed.push_back(0.0);
+    }
+  }
+  const analysis::CycleStats st = analysis::summarize_cycle(c);
+  // The trapezoidal rule integrates a full period of a sinusoid exactly; the sampled maximum
+  // is within 20 (1 - cos(pi / n)) ~ 6e-4 of the true one at n = 400.
+  EXPECT_NEAR(st.faces[0].mean, 100.0, 1e-9);
+  EXPECT_NEAR(st.faces[0].systolic, 120.0, 1e-3);
+  EXPECT_NEAR(st.faces[0].diastolic, 80.0, 1e-3);
+  EXPECT_NEAR(st.faces[0].volume, 2.0, 1e-9);
+  EXPECT_NEAR(*st.faces[0].split_percent, 200.0 / 3.0, 1e-9);
+  EXPECT_NEAR(*st.faces[1].split_percent, 100.0 / 3.0, 1e-9);
+  EXPECT_FALSE(st.faces[2].split_percent.has_value());
+
+  // A 1 % larger pressure in the next cycle is a change of 1 / 1.2 % of its peak.
+  analysis::CycleSamples next = c;
+  for (auto& f : next.faces)
+    for (double& p : f.pressure)
+      p *= 1.01;
+  EXPECT_NEAR(analysis::cycle_change(c, next), 0.01 * 120.0 / (1.01 * 120.0), 1e-3 * 0.01);
+  EXPECT_EQ(analysis::cycle_change(c, c), 0.0);
+}
