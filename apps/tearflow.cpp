@@ -1,5 +1,5 @@
 // tearflow: the command-line program.
-//   tearflow run [CASE.yaml] [--restart] [-o DIR] [-- PETSc options]
+//   tearflow run [CASE.yaml] [--restart] [-o DIR] [--steps N] [-- PETSc options]
 //   tearflow verify NAME [--convergence] | --list
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
@@ -25,8 +25,10 @@ using namespace tearflow;
 namespace {
 
 int run_command(const std::string& case_file, bool restart, const std::string& output, bool quiet,
-                const std::string& cli_petsc) {
+                const std::string& cli_petsc, int steps) {
   io::Case c = case_file.empty() ? run::default_case() : io::load_case(case_file);
+  if (steps > 0)
+    c.time.steps = steps;
   if (!output.empty())
     c.output.directory = std::filesystem::absolute(output);
   // Case options first, command-line options after, so the command line wins.
@@ -98,12 +100,15 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::string case_file, output, verify_name;
   bool restart = false, quiet = false, list = false, convergence = false, progress = false;
+  int steps = 0;
   double coarsening = 1.0;
   auto* run = app.add_subcommand("run", "run a simulation case (built-in pulsatile pipe if none)");
   run->add_option("case", case_file, "case file (YAML)");
   run->add_flag("--restart", restart, "continue from the output directory's checkpoint");
   run->add_option("-o,--output", output, "output directory (overrides the case file)");
   run->add_flag("-q,--quiet", quiet, "no progress lines");
+  run->add_option("--steps", steps, "stop at this step (overrides time.steps and cycles)")
+      ->check(CLI::PositiveNumber);
   auto* verify = app.add_subcommand("verify", "run a built-in verification case, print JSON");
   verify->add_option("name", verify_name, "case name (see --list)");
   verify->add_flag("--list", list, "list the verification cases");
@@ -116,7 +121,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(static_cast<int>(ours.size()), ours.data());
     if (*run)
-      code = run_command(case_file, restart, output, quiet, cli_petsc);
+      code = run_command(case_file, restart, output, quiet, cli_petsc, steps);
     if (*verify)
       code = verify_command(verify_name, list, convergence, coarsening, progress);
   } catch (const CLI::ParseError& e) {

@@ -30,7 +30,7 @@ def case_file(name, steps, tmp):
     path = os.path.join(tmp, name + ".yaml")
     if name == "pipe-rcr":
         text = open(os.path.join(ROOT, "examples/pipe-rcr/case.yaml")).read()
-        text = re.sub(r"steps: \d+", f"steps: {steps}", text)
+        text = re.sub(r"(steps|cycles): \d+", f"steps: {steps}", text)
         text = text.replace("../../../shared", os.path.join(ROOT, "..", "shared"))
         text = re.sub(r"output: .*", "output: {every: 0}", text)
     else:
