@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 namespace tearflow::physics {
 
@@ -135,9 +136,24 @@ StepReport FluidSolver::step(double t, double dt) {
   problem_.apply_dirichlet(U_);
 
   StepReport report;
-  const PetscErrorCode err = SNESSolve(snes_, nullptr, U_);
+  PetscErrorCode err = SNESSolve(snes_, nullptr, U_);
   SNESConvergedReason reason;
   SNESGetConvergedReason(snes_, &reason);
+  // A preconditioner lagged from earlier iterations can be too stale for a sudden change
+  // (a valve-like flow reversal): retry the step once with a freshly built one.
+  PetscInt lag = 1;
+  TF_PETSC(SNESGetLagPreconditioner(snes_, &lag));
+  if (err == 0 && reason == SNES_DIVERGED_LINEAR_SOLVE && lag != 1) {
+    spdlog::info("step t = {:.6g} s: linear solve failed with the lagged preconditioner; "
+                 "retrying with a new one",
+                 t + dt);
+    TF_PETSC(VecCopy(U_prev_, U_));
+    problem_.apply_dirichlet(U_);
+    TF_PETSC(SNESSetLagPreconditioner(snes_, -2)); // rebuild at the next Jacobian
+    err = SNESSolve(snes_, nullptr, U_);
+    TF_PETSC(SNESSetLagPreconditioner(snes_, lag));
+    SNESGetConvergedReason(snes_, &reason);
+  }
   PetscInt its = 0, lits = 0;
   SNESGetIterationNumber(snes_, &its);
   SNESGetLinearSolveIterations(snes_, &lits);
