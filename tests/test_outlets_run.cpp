@@ -13,33 +13,18 @@
 #include <nlohmann/json.hpp>
 
 #include "bc/windkessel.hpp"
+#include "cli_support.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path data = fs::path(TEARFLOW_SOURCE_DIR) / "tests" / "data";
-
-struct Result {
-  int code;
-  std::string output;
-};
+using tearflow::testing::fresh_dir;
+using tearflow::testing::Result;
+const fs::path data = tearflow::testing::test_data;
 
 Result run(const std::string& args) {
-  const std::string cmd = std::string(TEARFLOW_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p))
-    out.append(buf, n);
-  const int status = pclose(p);
-  return {WEXITSTATUS(status), out};
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("tearflow-outlets-" + name);
-  fs::remove_all(d);
-  return d;
+  return tearflow::testing::run_tearflow(args);
 }
 
 struct Row {

@@ -1,0 +1,39 @@
+#pragma once
+// Running the `tearflow` program from tests: its exit code and output, and fresh output
+// directories under the system's temporary folder.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+
+namespace tearflow::testing {
+
+struct Result {
+  int code;
+  std::string output; // stdout and stderr
+};
+
+/// Runs `tearflow ARGS`, optionally under a launcher such as "mpirun -n 2".
+inline Result run_tearflow(const std::string& args, const std::string& launcher = "") {
+  const std::string cmd = launcher + " " + TEARFLOW_BINARY + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p))
+    out.append(buf, n);
+  const int status = pclose(p);
+  return {WEXITSTATUS(status), out};
+}
+
+/// An empty directory path `<tmp>/tearflow-test-<name>` (removed if it existed).
+inline std::filesystem::path fresh_dir(const std::string& name) {
+  const std::filesystem::path d =
+      std::filesystem::temp_directory_path() / ("tearflow-test-" + name);
+  std::filesystem::remove_all(d);
+  return d;
+}
+
+inline const std::filesystem::path test_data =
+    std::filesystem::path(TEARFLOW_SOURCE_DIR) / "tests/data";
+
+} // namespace tearflow::testing
