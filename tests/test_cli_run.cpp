@@ -120,6 +120,16 @@ TEST(CliRun, BadInputIsAClearErrorWithNonZeroExit) {
   EXPECT_NE(mesh.code, 0);
   EXPECT_THAT(mesh.output, HasSubstr("mesh.file"));
 
+  const Result inverted = run("run " + (data / "runs/bad_inverted.yaml").string());
+  EXPECT_EQ(inverted.code, 2);
+  EXPECT_THAT(inverted.output, HasSubstr("inverted_tet.msh"));
+  EXPECT_THAT(inverted.output, HasSubstr("inverted element"));
+
+  const Result rcr = run("run " + (data / "runs/bad_rcr_face.yaml").string());
+  EXPECT_EQ(rcr.code, 2);
+  EXPECT_THAT(rcr.output, HasSubstr("boundary_conditions[2].face"));
+  EXPECT_THAT(rcr.output, HasSubstr("has no face 'outlett' (did you mean 'outlet'?)"));
+
   const Result missing = run("run /nonexistent/case.yaml");
   EXPECT_NE(missing.code, 0);
   EXPECT_THAT(missing.output, HasSubstr("/nonexistent/case.yaml"));
