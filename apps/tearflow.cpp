@@ -1,6 +1,7 @@
 // tearflow: the command-line program.
 //   tearflow run [CASE.yaml] [--restart] [-o DIR] [--steps N] [-- PETSc options]
 //   tearflow verify NAME [--convergence] | --list
+//   tearflow geometry tbad|import|report ...   (docs/geometry.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
@@ -15,6 +16,7 @@
 
 #include "core/error.hpp"
 #include "fem/petsc.hpp"
+#include "geometry/geometry_command.hpp"
 #include "io/case.hpp"
 #include "run/default_case.hpp"
 #include "run/simulation.hpp"
@@ -116,6 +118,7 @@ int main(int argc, char** argv) {
   verify->add_option("--coarsen", coarsening, "mesh size factor (> 1 coarser; CI's reduced form)")
       ->check(CLI::Range(0.25, 8.0));
   verify->add_flag("--progress", progress, "progress lines on stderr");
+  const geometry::GeometryCommand geometry_command(app);
 
   int code = 0;
   try {
@@ -124,6 +127,8 @@ int main(int argc, char** argv) {
       code = run_command(case_file, restart, output, quiet, cli_petsc, steps);
     if (*verify)
       code = verify_command(verify_name, list, convergence, coarsening, progress);
+    if (geometry_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
+      code = geometry_command.run();
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
   } catch (const InputError& e) {

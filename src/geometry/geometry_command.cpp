@@ -1,0 +1,219 @@
+#include "geometry/geometry_command.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "core/units.hpp"
+#include "geometry/geometry_report.hpp"
+#include "geometry/import.hpp"
+#include "geometry/tbad_builder.hpp"
+
+namespace tearflow::geometry {
+
+namespace {
+constexpr double mm = units::mm, mm2 = units::mm * units::mm;
+} // namespace
+
+/// Option values as typed (mm, mm^2, degrees); converted to a TbadSpec in `tbad_spec()`.
+struct GeometryOptions {
+  std::string output, variant = "OR";
+  bool verbose = false;
+  // tbad, in mm / mm^2 / degrees; NaN: keep the default (or the variant's value).
+  double element_size = NAN, tear_element_size = NAN, wall_thickness = NAN, flap_length = NAN;
+  double entry_area = NAN, exit_area = NAN, entry_position = NAN, exit_position = NAN;
+  double tear_aspect = NAN, outlet_distance = NAN, inlet_extension = NAN;
+  double ascending_length = NAN, ascending_bow = NAN, arch_radius = NAN, descending_bend = NAN;
+  double aao_area = NAN, dao_dist_area = NAN, arch_distal_radius = NAN, flap_start_gap = NAN;
+  double station_offset = NAN, bct_radius = NAN, lcc_radius = NAN, lsa_radius = NAN;
+  double branch_length = NAN;
+  std::vector<double> tl_areas, fl_areas;
+  // import
+  std::string mesh, wall_mesh, lumen, wall, landmarks, units = "mm";
+  std::vector<std::string> renames;
+  // report
+  std::string dir, png;
+  bool no_png = false;
+
+  TbadSpec tbad_spec() const {
+    TbadSpec s;
+    apply_variant(s, variant);
+    auto set = [](double& target, double value, double scale) {
+      if (!std::isnan(value))
+        target = value * scale;
+    };
+    set(s.element_size, element_size, mm);
+    set(s.tear_element_size, tear_element_size, mm);
+    set(s.wall_thickness, wall_thickness, mm);
+    set(s.flap_length, flap_length, mm);
+    set(s.entry_tear.area, entry_area, mm2);
+    set(s.exit_tear.area, exit_area, mm2);
+    set(s.entry_tear.position, entry_position, mm);
+    set(s.exit_tear.position, exit_position, mm);
+    set(s.entry_tear.aspect, tear_aspect, 1);
+    set(s.exit_tear.aspect, tear_aspect, 1);
+    set(s.outlet_distance, outlet_distance, mm);
+    set(s.inlet_extension, inlet_extension, mm);
+    set(s.ascending_length, ascending_length, mm);
+    set(s.ascending_bow, ascending_bow, mm);
+    set(s.arch_radius, arch_radius, mm);
+    set(s.descending_bend, descending_bend, M_PI / 180);
+    set(s.aao_area, aao_area, mm2);
+    set(s.dao_dist_area, dao_dist_area, mm2);
+    set(s.arch_distal_radius, arch_distal_radius, mm);
+    set(s.flap_start_gap, flap_start_gap, mm);
+    set(s.station_offset, station_offset, mm);
+    set(s.branches[0].radius, bct_radius, mm);
+    set(s.branches[1].radius, lcc_radius, mm);
+    set(s.branches[2].radius, lsa_radius, mm);
+    for (BranchSpec& b : s.branches)
+      set(b.length, branch_length, mm);
+    for (auto [values, target, name] : {std::tuple{&tl_areas, &s.tl_areas, "--tl-areas"},
+                                        {&fl_areas, &s.fl_areas, "--fl-areas"}}) {
+      if (values->empty())
+        continue;
+      if (values->size() != 5)
+        input_error("{}: expected 5 areas (stations 1 to 5), got {}", name, values->size());
+      for (int k = 0; k < 5; ++k)
+        (*target)[k] = (*values)[k] * mm2;
+    }
+    return s;
+  }
+};
+
+GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<GeometryOptions>()) {
+  GeometryOptions& o = *options_;
+  command_ = app.add_subcommand("geometry", "build, import or report a TBAD geometry");
+  command_->require_subcommand(1);
+
+  tbad_ = command_->add_subcommand(
+      "tbad", "build and mesh the parametric type B dissection (lengths in mm, areas in mm^2)");
+  tbad_->add_option("-o,--output", o.output, "output directory")->required();
+  tbad_->add_option("--variant", o.variant, "reference study tear sizes: OR, EN or EX")
+      ->check(CLI::IsMember({"OR", "EN", "EX"}));
+  tbad_->add_option("--element-size", o.element_size,
+                    "target element size, mm (default 3; 1.0 gives the study's 1.1 M fluid tets)");
+  tbad_->add_option("--tear-element-size", o.tear_element_size,
+                    "element size at the tears, mm (default: 24 edges around each tear)");
+  tbad_->add_option("--wall-thickness", o.wall_thickness, "wall and flap thickness h, mm (2)");
+  tbad_->add_option("--flap-length", o.flap_length, "dissection flap length, mm (200)");
+  tbad_->add_option("--entry-tear-area", o.entry_area, "mm^2 (overrides the variant's)");
+  tbad_->add_option("--exit-tear-area", o.exit_area, "mm^2 (overrides the variant's)");
+  tbad_->add_option("--entry-tear-position", o.entry_position,
+                    "entry tear centre from the flap's proximal end, mm (15)");
+  tbad_->add_option("--exit-tear-position", o.exit_position,
+                    "exit tear centre from the flap's distal end, mm (15)");
+  tbad_->add_option("--tear-aspect", o.tear_aspect, "tear length over width (1.8)");
+  tbad_->add_option("--outlet-distance", o.outlet_distance,
+                    "outlet distal to the exit tear centre, mm (35)");
+  tbad_->add_option("--inlet-extension", o.inlet_extension, "straight inlet extension, mm (20)");
+  tbad_->add_option("--ascending-length", o.ascending_length, "ascending aorta, mm (50)");
+  tbad_->add_option("--ascending-bow", o.ascending_bow,
+                    "out-of-plane offset of the ascending aorta, mm (8)");
+  tbad_->add_option("--arch-radius", o.arch_radius, "tightest arch radius of curvature, mm (25)");
+  tbad_->add_option("--descending-bend", o.descending_bend,
+                    "bend of the descending aorta, degrees (6.9)");
+  tbad_->add_option("--aao-area", o.aao_area, "ascending aorta lumen area, mm^2 (492.6)");
+  tbad_->add_option("--dao-dist-area", o.dao_dist_area,
+                    "lumen area distal to the dissection, mm^2 (365.5)");
+  tbad_->add_option("--arch-distal-radius", o.arch_distal_radius,
+                    "lumen radius at the LSA, mm (11)");
+  tbad_->add_option("--flap-start-gap", o.flap_start_gap,
+                    "flap start distal to the LSA's wall, mm (6)");
+  tbad_->add_option("--station-offset", o.station_offset,
+                    "TL1/FL1 (TL5/FL5) distal (proximal) to the entry (exit) tear, mm (24)");
+  tbad_->add_option("--tl-areas", o.tl_areas, "true lumen areas at stations 1..5, mm^2")
+      ->expected(5)
+      ->delimiter(',');
+  tbad_->add_option("--fl-areas", o.fl_areas, "false lumen areas at stations 1..5, mm^2")
+      ->expected(5)
+      ->delimiter(',');
+  tbad_->add_option("--bct-radius", o.bct_radius, "mm (6)");
+  tbad_->add_option("--lcc-radius", o.lcc_radius, "mm (3.5)");
+  tbad_->add_option("--lsa-radius", o.lsa_radius, "mm (4.5)");
+  tbad_->add_option("--branch-length", o.branch_length,
+                    "branch length from the aortic centreline, mm (45)");
+  tbad_->add_flag("-v,--verbose", o.verbose, "show Gmsh's progress");
+
+  import_ =
+      command_->add_subcommand("import", "check a user's model and write the geometry layout");
+  import_->add_option("-o,--output", o.output, "output directory")->required();
+  import_->add_option("--mesh", o.mesh, "finished mesh: .msh or SimVascular mesh-complete dir");
+  import_->add_option("--wall-mesh", o.wall_mesh,
+                      "separate wall mesh sharing the fluid's wall nodes (SimVascular FSI)");
+  import_->add_option("--face", o.renames, "rename a face: OLD=NEW (repeatable)");
+  import_->add_option("--lumen", o.lumen, "closed lumen surface (STL or VTP)");
+  import_->add_option("--wall", o.wall, "closed outer wall surface (STL or VTP)");
+  import_->add_option("--landmarks", o.landmarks, "landmarks JSON")->required();
+  import_->add_option("--units", o.units, "length unit of the inputs: m, cm or mm (mm)");
+  import_->add_option("--element-size", o.element_size, "element size for surfaces, mm (3)");
+
+  report_ = command_->add_subcommand("report", "measure a geometry directory, render a picture");
+  report_->add_option("dir", o.dir, "geometry directory (mesh.msh, landmarks.json)")->required();
+  report_->add_option("--png", o.png, "picture file (default DIR/geometry.png)");
+  report_->add_flag("--no-png", o.no_png, "no picture");
+}
+
+GeometryCommand::~GeometryCommand() = default;
+
+bool GeometryCommand::selected() const {
+  return command_->parsed();
+}
+
+int GeometryCommand::run() const {
+  const GeometryOptions& o = *options_;
+  if (tbad_->parsed()) {
+    const TbadSpec spec = o.tbad_spec();
+    const TbadBuild b = build_tbad(spec, o.output, o.verbose);
+    std::size_t fluid = 0;
+    for (std::size_t t = 0; t < b.mesh.tets.size(); ++t)
+      fluid += b.mesh.regions[b.mesh.tet_region[t]] == "fluid";
+    fmt::print("tbad ({} tears {:.0f} / {:.0f} mm^2, element size {} mm): {} nodes, {} fluid and "
+               "{} wall tets; CAD {:.1f} s, meshing {:.1f} s\nwrote {} and {}\n",
+               o.variant, spec.entry_tear.area / mm2, spec.exit_tear.area / mm2,
+               spec.element_size / mm, b.mesh.num_nodes(), fluid, b.mesh.tets.size() - fluid,
+               b.cad_seconds, b.mesh_seconds,
+               (std::filesystem::path(o.output) / kMeshFile).string(),
+               (std::filesystem::path(o.output) / kLandmarksFile).string());
+    return 0;
+  }
+  if (import_->parsed()) {
+    ImportOptions io;
+    io.mesh = o.mesh;
+    io.wall_mesh = o.wall_mesh;
+    for (const std::string& r : o.renames) {
+      const auto eq = r.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == r.size())
+        input_error("--face '{}': expected OLD=NEW", r);
+      io.rename_faces.push_back({r.substr(0, eq), r.substr(eq + 1)});
+    }
+    io.lumen = o.lumen;
+    io.wall = o.wall;
+    io.landmarks = o.landmarks;
+    io.length_scale = units::length_scale(o.units, "--units");
+    if (!std::isnan(o.element_size))
+      io.element_size = o.element_size * mm;
+    import_geometry(io, o.output);
+    fmt::print("wrote {} and {}\n", (std::filesystem::path(o.output) / kMeshFile).string(),
+               (std::filesystem::path(o.output) / kLandmarksFile).string());
+    return 0;
+  }
+  const std::filesystem::path dir = o.dir;
+  std::filesystem::path png = o.png.empty() ? dir / "geometry.png" : std::filesystem::path(o.png);
+  const char* display = std::getenv("DISPLAY");
+  if (o.png.empty() && !o.no_png && (!display || !*display)) {
+    // Asked for nothing in particular: report without the picture rather than fail.
+    fmt::print("no picture: no X display (run under `xvfb-run -a` for one)\n");
+    png.clear();
+  }
+  if (o.no_png)
+    png.clear();
+  report_geometry(dir, png);
+  return 0;
+}
+
+} // namespace tearflow::geometry

@@ -1,0 +1,34 @@
+#pragma once
+// `tearflow geometry import`: a user's model into the geometry layout (DIR/mesh.msh and
+// DIR/landmarks.json), checked on the way in.
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tearflow::geometry {
+
+struct ImportOptions {
+  /// A finished mesh: Gmsh .msh (regions fluid and wall) or a SimVascular mesh-complete
+  /// directory (fluid only). Or, instead, the two surfaces below.
+  std::filesystem::path mesh;
+  /// A separate wall mesh (SimVascular mesh-complete directory or .msh) whose inner face
+  /// coincides node for node with the fluid's wall, as in SimVascular's FSI cases: merged
+  /// into one mesh with shared interface nodes (the wall's copy of the shared face dropped).
+  std::filesystem::path wall_mesh;
+  /// Face renames (old, new), e.g. {"lumen_inlet", "inlet"}, {"lumen_wall", "interface"}.
+  std::vector<std::pair<std::string, std::string>> rename_faces;
+  /// Closed lumen and outer-wall surfaces (STL or VTP). Checked (watertight, consistently
+  /// oriented); meshing them is not implemented yet.
+  std::filesystem::path lumen, wall;
+  std::filesystem::path landmarks; ///< landmarks JSON (required)
+  double length_scale = 1e-3;      ///< metres per input length unit (mm by default)
+  double element_size = 3e-3;      ///< for surfaces [m]
+};
+
+/// Checks and converts; writes DIR/mesh.msh (mm) and DIR/landmarks.json. InputError for a
+/// surface that is not watertight, a mesh whose named faces do not close the fluid (or lack
+/// inlet and outlet), landmarks outside the fluid.
+void import_geometry(const ImportOptions& options, const std::filesystem::path& dir);
+
+} // namespace tearflow::geometry

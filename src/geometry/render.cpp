@@ -1,0 +1,162 @@
+// Off-screen picture of a geometry: the outer wall translucent, the lumen wall and flap
+// half-transparent with the tears' rims in red, the caps coloured, and a disk at every
+// landmark plane. Viewed along the flap's normal, so the tears are seen face-on.
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+
+#include <vtkActor.h>
+#include <vtkAutoInit.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRegularPolygonSource.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkWindowToImageFilter.h>
+
+#include "core/error.hpp"
+#include "geometry/geometry_report.hpp"
+
+// The rendering classes come from object factories that these modules register; without
+// them vtkRenderWindow::New() has no implementation.
+VTK_MODULE_INIT(vtkRenderingOpenGL2);
+
+namespace tearflow::geometry {
+
+namespace {
+
+constexpr double kMm = 1e3; // the picture in mm
+
+vtkNew<vtkActor> triangles_actor(const mesh::Mesh& m, const std::vector<Tri>& tris,
+                                 const std::array<double, 3>& rgb, double opacity) {
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> cells;
+  std::map<Index, vtkIdType> local;
+  for (const Tri& t : tris) {
+    vtkIdType ids[3];
+    for (int k = 0; k < 3; ++k) {
+      auto [it, fresh] = local.emplace(t[k], 0);
+      if (fresh) {
+        const Vec3& p = m.points[t[k]];
+        it->second = points->InsertNextPoint(p[0] * kMm, p[1] * kMm, p[2] * kMm);
+      }
+      ids[k] = it->second;
+    }
+    cells->InsertNextCell(3, ids);
+  }
+  vtkNew<vtkPolyData> pd;
+  pd->SetPoints(points);
+  pd->SetPolys(cells);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(pd);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  actor->GetProperty()->SetOpacity(opacity);
+  return actor;
+}
+
+vtkNew<vtkActor> disk_actor(const Vec3& centre, const Vec3& normal, double radius,
+                            const std::array<double, 3>& rgb) {
+  vtkNew<vtkRegularPolygonSource> disk;
+  disk->SetNumberOfSides(48);
+  disk->SetCenter(centre[0] * kMm, centre[1] * kMm, centre[2] * kMm);
+  disk->SetNormal(normal[0], normal[1], normal[2]);
+  disk->SetRadius(radius * kMm);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(disk->GetOutputPort());
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  actor->GetProperty()->SetOpacity(0.45);
+  return actor;
+}
+
+// Interface triangles on a tear's rim: within the flap's thickness of its mid-plane and
+// within 1.1 semi-axes of its centre.
+bool on_tear(const mesh::Mesh& m, const Tri& t, const TearLandmark& tear) {
+  Vec3 c{0, 0, 0};
+  for (Index n : t)
+    c = c + (1.0 / 3.0) * m.points[n];
+  const Vec3 d = c - tear.centroid, across = cross(tear.normal, tear.axis);
+  const double u = dot(d, tear.axis) / tear.axial, w = dot(d, across) / tear.across;
+  return std::abs(dot(d, tear.normal)) < 0.3 * tear.across && u * u + w * w < 1.21;
+}
+
+} // namespace
+
+void render_geometry(const mesh::Mesh& m, const Landmarks& landmarks,
+                     const std::filesystem::path& png) {
+  // Debian's VTK renders through GLX even off-screen; without an X server it aborts.
+  const char* display = std::getenv("DISPLAY");
+  if (!display || !*display)
+    input_error("cannot render '{}': no X display (DISPLAY is not set); run under a virtual X "
+                "server, e.g. `xvfb-run -a tearflow geometry report DIR`, or pass --no-png",
+                png.string());
+  vtkNew<vtkRenderer> renderer;
+  renderer->SetBackground(1, 1, 1);
+  std::vector<Tri> lumen_wall, tear_rims;
+  for (const mesh::Face& f : m.faces) {
+    if (f.name == "outer_wall") {
+      renderer->AddActor(triangles_actor(m, f.triangles, {0.75, 0.75, 0.75}, 0.15));
+    } else if (f.name == "interface" || f.name == "wall") {
+      for (const Tri& t : f.triangles) {
+        bool rim = false;
+        for (const TearLandmark& tear : landmarks.tears)
+          rim = rim || on_tear(m, t, tear);
+        (rim ? tear_rims : lumen_wall).push_back(t);
+      }
+    } else if (f.name.rfind("wall_", 0) != 0) { // fluid caps
+      renderer->AddActor(triangles_actor(m, f.triangles, {0.2, 0.6, 0.2}, 1.0));
+    }
+  }
+  renderer->AddActor(triangles_actor(m, lumen_wall, {0.85, 0.55, 0.45}, 0.35));
+  renderer->AddActor(triangles_actor(m, tear_rims, {0.9, 0.0, 0.0}, 1.0));
+  std::set<std::string> drawn; // TLk and FLk share one plane
+  for (const Landmark& l : landmarks.planes) {
+    const std::string station = l.lumen == "aorta" ? l.name : l.name.substr(2);
+    if (!drawn.insert(station).second)
+      continue;
+    const std::array<double, 3> rgb =
+        l.lumen == "aorta" ? std::array{0.1, 0.3, 0.9} : std::array{0.6, 0.1, 0.8};
+    renderer->AddActor(disk_actor(l.origin, l.normal, 20e-3, rgb));
+  }
+  // Look along the flap's normal (the first tear's), at the whole model.
+  const Vec3 view = landmarks.tears.empty() ? Vec3{1, 0, 0} : landmarks.tears[0].normal;
+  renderer->ResetCamera();
+  vtkCamera* camera = renderer->GetActiveCamera();
+  double focal[3];
+  camera->GetFocalPoint(focal);
+  const double distance = camera->GetDistance();
+  camera->SetPosition(focal[0] + distance * view[0], focal[1] + distance * view[1],
+                      focal[2] + distance * view[2]);
+  camera->SetViewUp(0, 0, 1);
+  renderer->ResetCamera();
+  camera->Zoom(1.1);
+
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->AddRenderer(renderer);
+  window->SetSize(900, 1400);
+  window->Render();
+  vtkNew<vtkWindowToImageFilter> image;
+  image->SetInput(window);
+  image->ReadFrontBufferOff();
+  image->Update();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(png.c_str());
+  writer->SetInputConnection(image->GetOutputPort());
+  writer->Write();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(png, ec) || std::filesystem::file_size(png, ec) == 0)
+    input_error("cannot render '{}': VTK wrote no picture", png.string());
+}
+
+} // namespace tearflow::geometry

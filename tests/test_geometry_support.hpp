@@ -1,0 +1,56 @@
+#pragma once
+// Shared by the geometry tests: the parametric TBAD built once per test executable binary
+// and cached on disk, because ctest runs every TEST in its own process and a build takes
+// 10-20 s. The cache key is the spec and the modification time of the test executable, so a
+// rebuilt library (which relinks the test) never reads an old mesh. Parallel test processes
+// build into private directories and publish with an atomic rename.
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <system_error>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "geometry/fsi_mesh.hpp"
+#include "geometry/landmarks.hpp"
+#include "geometry/tbad_builder.hpp"
+#include "geometry/tbad_spec.hpp"
+
+namespace tearflow::geometry::testing {
+
+namespace fs = std::filesystem;
+
+/// CI's element size: the default, 3 mm (about 15 s per model on one core).
+constexpr double kCoarse = 3e-3;
+
+struct CachedModel {
+  mesh::Mesh mesh;
+  Landmarks landmarks;
+  fs::path dir;
+};
+
+inline TbadSpec variant_spec(const std::string& variant, double element_size) {
+  TbadSpec s;
+  apply_variant(s, variant);
+  s.element_size = element_size;
+  return s;
+}
+
+inline CachedModel cached_tbad(const std::string& variant, double element_size) {
+  std::error_code ec;
+  const auto stamp = fs::last_write_time("/proc/self/exe", ec).time_since_epoch().count();
+  const fs::path dir =
+      fs::temp_directory_path() /
+      fmt::format("tearflow-geometry-test-{}-{}-{:.2f}", stamp, variant, element_size * 1e3);
+  if (!fs::is_regular_file(dir / kLandmarksFile, ec)) {
+    const fs::path mine = dir.string() + fmt::format(".tmp{}", ::getpid());
+    build_tbad(variant_spec(variant, element_size), mine);
+    fs::rename(mine, dir, ec); // fails if another process won: use theirs
+    if (ec)
+      fs::remove_all(mine, ec);
+  }
+  return {read_fsi_mesh(dir / kMeshFile, 1e-3), read_landmarks(dir / kLandmarksFile), dir};
+}
+
+} // namespace tearflow::geometry::testing
