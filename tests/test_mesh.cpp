@@ -24,6 +24,7 @@
 #include "mesh/gmsh_session.hpp"
 #include "mesh/pipe_generator.hpp"
 #include "mesh/readers.hpp"
+#include "mesh/region.hpp"
 
 namespace tearflow::mesh {
 namespace {
@@ -305,7 +306,13 @@ TEST_F(MeshBrokenPipe, FaceTriangleNotOnBoundary) {
   ASSERT_NE(inner, m.tets.end());
   m.faces[0].triangles[2] = {(*inner)[0], (*inner)[1], (*inner)[2]};
   expect_input_error([&] { check_mesh(m); },
-                     {"face 'inlet'", "triangle 2", "inside the mesh", "boundary"});
+                     {"face 'inlet'", "triangle 2", "inside a region", "boundary"});
+  // The same triangle between two regions is an interface (the fluid-wall face of an FSI
+  // mesh) and may carry a name.
+  m.regions.push_back("wall");
+  m.tet_region[static_cast<size_t>(inner - m.tets.begin())] = 1;
+  EXPECT_NO_THROW(check_mesh(m));
+  m.tet_region[static_cast<size_t>(inner - m.tets.begin())] = 0;
   m.faces[0].triangles[2] = {0, 1, 2};
   expect_input_error([&] { check_mesh(m); }, {"face 'inlet'", "not a face of any tet"});
 }
@@ -419,6 +426,30 @@ TEST_F(MeshBrokenPipe, SimVascularFaceNodeMatchesNothing) {
   write_stray({m.points[0], m.points[1], m.points[2], m.points[3]}); // a quadrangle
   expect_input_error([&] { read_simvascular(tmp.path(), 0.01); },
                      {"face 'stray'", "polygon 0", "triangles only"});
+}
+
+TEST_F(MeshBrokenPipe, ExtractRegionKeepsTheFacesThatBoundIt) {
+  // Two regions split at mid-length: "fluid" below, "wall" above.
+  m.regions = {"fluid", "wall"};
+  int fluid_tets = 0;
+  for (size_t t = 0; t < m.tets.size(); ++t) {
+    double z = 0.0;
+    for (Index n : m.tets[t])
+      z += 0.25 * m.points[n][2];
+    m.tet_region[t] = z < 0.02 ? 0 : 1;
+    fluid_tets += z < 0.02;
+  }
+  const Mesh f = extract_region(m, "fluid");
+  EXPECT_EQ(f.num_tets(), fluid_tets);
+  EXPECT_EQ(f.regions, std::vector<std::string>{"fluid"});
+  EXPECT_NO_THROW(check_mesh(f));
+  // The inlet (z = 0) is all fluid; the outlet (z = L) bounds only the other region.
+  EXPECT_EQ(f.face("inlet").triangles.size(), m.face("inlet").triangles.size());
+  EXPECT_FALSE(f.has_face("outlet"));
+  EXPECT_TRUE(f.has_face("wall"));
+  EXPECT_LT(f.face("wall").triangles.size(), m.face("wall").triangles.size());
+  expect_input_error([&] { (void)extract_region(m, "lumen"); },
+                     {"no volume region 'lumen'", "'fluid'", "'wall'"});
 }
 
 } // namespace

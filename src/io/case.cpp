@@ -37,7 +37,7 @@ mesh::PipeSpec read_pipe(const YamlValue& v) {
 }
 
 MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
-  v.check_keys({"file", "units", "pipe"});
+  v.check_keys({"file", "units", "pipe", "region"});
   const auto file = v.get("file");
   const auto pipe = v.get("pipe");
   if (file && pipe)
@@ -56,6 +56,8 @@ MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
   if (auto units = v.get("units"))
     spec.length_scale = units::length_scale(units->choice({"m", "cm", "mm"}), units->where());
 
+  if (auto region = v.get("region"))
+    spec.region = region->text();
   spec.file = resolve_path(case_dir, file->text());
   std::error_code ec;
   if (!fs::exists(spec.file, ec))

@@ -19,8 +19,11 @@ struct MeshSpec {
   std::filesystem::path file;         ///< .msh or SimVascular directory (absolute), or empty
   double length_scale = 1.0;          ///< metres per mesh unit (`units: mm` gives 1e-3)
   std::optional<mesh::PipeSpec> pipe; ///< built-in pipe instead of a file
-  /// Built-in geometry of verification cases (not from case files); wins over the others.
-  std::function<mesh::Mesh()> generator;
+  /// The volume region the flow is solved in (a multi-region mesh's `fluid` if empty).
+  std::string region;
+  /// Built-in geometry (the default case, verification cases; not from case files): called
+  /// with the case, wins over file and pipe.
+  std::function<mesh::Mesh(const struct Case&)> generator;
 };
 
 struct FluidSpec {

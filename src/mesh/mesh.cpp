@@ -45,6 +45,7 @@ class FaceTable {
 public:
   struct Entry {
     Index mid, high; // the other two node ids, mid < high
+    Index tet;       // the tet it belongs to
   };
 
   explicit FaceTable(const Mesh& mesh) : start_(static_cast<std::size_t>(mesh.num_nodes()) + 1, 0) {
@@ -59,7 +60,7 @@ public:
     for (std::size_t t = 0; t < nt; ++t)
       for (int f = 0; f < 4; ++f) {
         const Tri s = sorted_face(mesh.tets[t], f);
-        entries_[fill[s[0]]++] = {s[1], s[2]};
+        entries_[fill[s[0]]++] = {s[1], s[2], static_cast<Index>(t)};
       }
     for (std::size_t n = 0; n + 1 < start_.size(); ++n)
       std::sort(entries_.begin() + start_[n], entries_.begin() + start_[n + 1],
@@ -192,16 +193,22 @@ void check_faces(const Mesh& mesh, const FaceTable& table) {
     input_error("{}: triangle (nodes {} {} {}) is shared by more than two tets, expected at most "
                 "two (overlapping or non-conforming mesh)",
                 mesh.source, (*t)[0], (*t)[1], (*t)[2]);
+  // A named face lies on the boundary of the mesh or between two regions (the fluid-wall
+  // interface of an FSI mesh), never inside one region.
+  const auto region = [&](Index tet) {
+    return mesh.tet_region.empty() ? 0 : mesh.tet_region[static_cast<std::size_t>(tet)];
+  };
   for (const Face& f : mesh.faces)
     for (std::size_t k = 0; k < f.triangles.size(); ++k) {
       const auto [lo, hi] = table.find(f.triangles[k]);
-      if (hi - lo == 1)
+      if (hi - lo == 1 || (hi - lo == 2 && region(lo->tet) != region((lo + 1)->tet)))
         continue;
       const Tri& t = f.triangles[k];
       input_error("{}: face '{}' triangle {} (nodes {} {} {}) is {}, expected a boundary face of "
-                  "the tet mesh",
+                  "the tet mesh or one between two regions",
                   mesh.source, f.name, k, t[0], t[1], t[2],
-                  hi == lo ? "not a face of any tet" : "inside the mesh (shared by two tets)");
+                  hi == lo ? "not a face of any tet"
+                           : "inside a region (shared by two of its tets)");
     }
 }
 

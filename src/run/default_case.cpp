@@ -1,40 +1,69 @@
+// The built-in default case: rigid-wall flow in the parametric type B aortic dissection
+// (geometry/tbad_*, OR variant, 3 mm elements) with the reference study's inflow and
+// Windkessel outlets (../shared/reference/tbad-study.md).
 #include "run/default_case.hpp"
 
 #include <filesystem>
 
+#include <mpi.h>
+
+#include "bc/aortic_inflow.hpp"
+#include "fem/petsc.hpp"
+#include "geometry/tbad_builder.hpp"
+#include "mesh/readers.hpp"
+
 namespace tearflow::run {
+
+namespace {
+
+/// RCRs from the study's OR totals distributed by its measured flow splits:
+/// R_i = R_T / f_i, R_p = (1 - k_d) R_i, R_d = k_d R_i, C_i = C_T f_i.
+io::BoundaryCondition study_outlet(const std::string& face, double split_percent) {
+  constexpr double R_T = 150e6, C_T = 6.74e-9, k_d = 0.84, total_percent = 100.0;
+  const double f = split_percent / total_percent, R = R_T / f;
+  io::BoundaryCondition b;
+  b.face = face;
+  b.type = io::BcType::Windkessel;
+  b.rcr = {(1.0 - k_d) * R, C_T * f, k_d * R, 0.0};
+  return b;
+}
+
+} // namespace
 
 io::Case default_case() {
   io::Case c;
-  c.name = "pulsatile-pipe";
-  c.mesh.pipe = mesh::PipeSpec{0.01, 0.1, 0.0015};
-  c.fluid = {1060.0, 0.004};
-  // Two cardiac cycles of 100 steps; the outlet starts from its periodic 0D state.
-  c.time.step = 0.01;
+  c.name = "tbad-or";
+  c.output.directory = std::filesystem::absolute("results/tbad-or");
+  // Rank 0 builds and writes the model beside the results; every rank then reads the same
+  // file, so that all hold the same mesh.
+  c.mesh.generator = [](const io::Case& self) {
+    const std::filesystem::path geometry_dir = self.output.directory / "geometry";
+    if (fem::mpi_rank() == 0)
+      geometry::build_tbad(geometry::TbadSpec{}, geometry_dir);
+    MPI_Barrier(PETSC_COMM_WORLD);
+    return mesh::read_mesh(geometry_dir / geometry::kMeshFile, 1e-3);
+  };
+  c.mesh.region = "fluid";
+  c.fluid = {1100.0, 0.0042}; // the study's blood-mimicking fluid
+  // Two cardiac cycles of 200 steps; the outlets start from their periodic 0D state.
+  c.time.step = 0.005;
   c.time.spectral_radius = 0.5;
   c.time.period = 1.0;
-  c.time.steps_per_cycle = 100;
-  c.time.steps = 200;
-  // An aortic-like waveform [mL/s] over a 1 s cycle: systolic peak at 0.15 s, small
-  // reversal in early diastole; mean about 21 mL/s (scaled down for a 2 cm pipe).
-  const std::vector<double> t{0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.8};
-  const std::vector<double> q{2.0, 30.0, 75.0, 90.0, 70.0, 40.0, 12.0, -6.0, 0.0, 4.0, 3.0, 2.0};
-  std::vector<double> q_si;
-  for (double v : q)
-    q_si.push_back(v * 1e-6);
-  io::BoundaryCondition wall, inlet, outlet;
-  wall.face = "wall";
+  c.time.steps_per_cycle = 200;
+  c.time.steps = 400;
+  io::BoundaryCondition wall, inlet;
+  wall.face = "interface";
   inlet.face = "inlet";
   inlet.type = io::BcType::Inflow;
-  inlet.flow = bc::Waveform::periodic(t, q_si, 1.0, "built-in waveform");
-  // The reference study's OR Windkessel totals (../shared/reference/tbad-study.md):
-  // R_T = 150 MPa s/m^3, C_T = 6.74e-9 m^3/Pa, k_d = 0.84, on the single outlet.
-  outlet.face = "outlet";
-  outlet.type = io::BcType::Windkessel;
-  outlet.rcr = {0.16 * 1.5e8, 6.74e-9, 0.84 * 1.5e8, 0.0};
-  c.boundary_conditions = {wall, inlet, outlet};
+  inlet.flow = bc::typical_aortic_inflow(74.1e-6, 300e-6, 1.0); // SV 74.1 mL, peak 300 mL/s
+  // Measured flow splits, % of outflow (they sum to 100).
+  c.boundary_conditions = {wall,
+                           inlet,
+                           study_outlet("BCT", 15.0),
+                           study_outlet("LCC", 3.1),
+                           study_outlet("LSA", 5.4),
+                           study_outlet("outlet", 76.5)};
   c.newton = {10, 1e-6, 1e-12};
-  c.output.directory = std::filesystem::absolute("results/pulsatile-pipe");
   c.output.every = 10;
   c.output.checkpoint_every = 50;
   return c;

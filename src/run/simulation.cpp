@@ -11,14 +11,25 @@
 #include "io/vtu_series.hpp"
 #include "mesh/orient_faces.hpp"
 #include "mesh/readers.hpp"
+#include "mesh/region.hpp"
 #include "run/startup.hpp"
 
 namespace tearflow::run {
 
 mesh::Mesh load_mesh(const io::Case& c) {
-  mesh::Mesh m = c.mesh.generator ? c.mesh.generator()
+  mesh::Mesh m = c.mesh.generator ? c.mesh.generator(c)
                  : c.mesh.pipe    ? mesh::make_pipe(*c.mesh.pipe)
                                   : mesh::read_mesh(c.mesh.file, c.mesh.length_scale);
+  // The flow lives in one region: the named one, or `fluid` of a multi-region (FSI) mesh.
+  if (!c.mesh.region.empty() || m.regions.size() > 1) {
+    const std::string region = c.mesh.region.empty() ? "fluid" : c.mesh.region;
+    if (c.mesh.region.empty() &&
+        std::find(m.regions.begin(), m.regions.end(), region) == m.regions.end())
+      input_error("{}: the mesh has {} volume regions and none is called 'fluid'; name the "
+                  "flow's region with mesh.region",
+                  m.source, m.regions.size());
+    m = mesh::extract_region(m, region);
+  }
   mesh::orient_faces_outward(m);
   io::check_case_against_mesh(c, m);
   return m;

@@ -36,7 +36,7 @@ io::Case splits_case(double element_size) {
   c.name = "verify-splits";
   mesh::JunctionSpec spec;
   spec.element_size = element_size;
-  c.mesh.generator = [spec] { return mesh::make_junction(spec); };
+  c.mesh.generator = [spec](const io::Case&) { return mesh::make_junction(spec); };
   c.fluid = {rho, mu};
   c.time.step = dt;
   c.time.period = T;
