@@ -2,6 +2,7 @@
 //   tearflow run [CASE.yaml] [--restart] [-o DIR] [--steps N] [-- PETSc options]
 //   tearflow verify NAME [--convergence] | --list
 //   tearflow geometry tbad|import|report ...   (docs/geometry.md)
+//   tearflow tune CASE.yaml --targets TARGETS.yaml [-o TUNED.yaml]   (docs/tuning.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include "io/case.hpp"
 #include "run/default_case.hpp"
 #include "run/simulation.hpp"
+#include "tuning/tune_command.hpp"
 #include "verify/verification.hpp"
 
 using namespace tearflow;
@@ -119,6 +121,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.25, 8.0));
   verify->add_flag("--progress", progress, "progress lines on stderr");
   const geometry::GeometryCommand geometry_command(app);
+  const tuning::TuneCommand tune_command(app);
 
   int code = 0;
   try {
@@ -129,6 +132,8 @@ int main(int argc, char** argv) {
       code = verify_command(verify_name, list, convergence, coarsening, progress);
     if (geometry_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
       code = geometry_command.run();
+    if (tune_command.selected())
+      code = tune_command.run(cli_petsc);
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
   } catch (const InputError& e) {

@@ -42,12 +42,30 @@ std::complex<double> WindkesselNetwork::impedance(size_t i, double omega) const 
          w.distal_resistance / (1.0 + 1i * omega * w.distal_resistance * w.capacitance);
 }
 
+std::vector<double> PeriodicState::sample_inlet_pressure(int samples) const {
+  // e^{i n w t_k} by repeated multiplication: one sine and cosine per sample, not per mode.
+  std::vector<double> v(samples, inlet_.empty() ? 0.0 : inlet_[0].real());
+  for (int k = 0; k < samples; ++k) {
+    const std::complex<double> z = std::polar(1.0, 2.0 * std::numbers::pi * k / samples);
+    std::complex<double> zn = 1.0;
+    for (size_t n = 1; n < inlet_.size(); ++n) {
+      zn *= z;
+      v[k] += 2.0 * (inlet_[n] * zn).real();
+    }
+  }
+  return v;
+}
+
 PeriodicState WindkesselNetwork::periodic(const Waveform& inflow, int modes) const {
+  return periodic(inflow.fourier(inflow.is_constant() ? 1 : modes), inflow.period());
+}
+
+PeriodicState WindkesselNetwork::periodic(const std::vector<std::complex<double>>& q,
+                                          double period) const {
   using C = std::complex<double>;
   using namespace std::complex_literals;
   PeriodicState s;
-  s.period_ = inflow.period();
-  const std::vector<C> q = inflow.fourier(inflow.is_constant() ? 1 : modes);
+  s.period_ = period;
   const size_t nb = branches_.size();
   s.inlet_.resize(q.size());
   s.node_.resize(q.size());

@@ -37,6 +37,8 @@ public:
   double branch_flow(size_t i, double t) const { return eval(flow_[i], t); }
   double distal_pressure(size_t i, double t) const { return eval(distal_[i], t); }
   double mean_branch_flow(size_t i) const { return flow_[i][0].real(); }
+  /// The inlet pressure at `samples` equally spaced times over one period (from t = 0).
+  std::vector<double> sample_inlet_pressure(int samples) const;
   size_t num_branches() const { return flow_.size(); }
 
 private:
@@ -66,6 +68,10 @@ public:
   /// The periodic response to a periodic inflow (exact up to the `modes` harmonics kept;
   /// a constant inflow gives the steady state).
   PeriodicState periodic(const Waveform& inflow, int modes = 128) const;
+  /// The same from the inflow's Fourier coefficients (Waveform::fourier) and period, for
+  /// callers that evaluate many networks for one inflow.
+  PeriodicState periodic(const std::vector<std::complex<double>>& inflow_modes,
+                         double period) const;
 
   /// Integrates from t0 with the distal pressures `pd0` by the trapezoidal rule (the scheme
   /// of the 3D outlets, windkessel.hpp) for `steps` steps of dt.

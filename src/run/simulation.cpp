@@ -228,8 +228,9 @@ RunSummary Simulation::run(const RunOptions& options) {
     if (root && options.progress)
       fmt::print("restarting from step {} (t = {:.6g} s) of '{}'\n", step_, time(),
                  checkpoint_file.string());
-  } else if (options.write_output) {
-    write_frame();
+  } else {
+    if (options.write_output)
+      write_frame();
     record.add(sample());
   }
 

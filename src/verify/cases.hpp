@@ -9,5 +9,7 @@ VerificationResult verify_womersley(const VerifyOptions& options);
 // Outlets (rcr.cpp, splits.cpp).
 VerificationResult verify_rcr(const VerifyOptions& options);
 VerificationResult verify_splits(const VerifyOptions& options);
+// Outlet tuning (tuning.cpp).
+VerificationResult verify_tuning(const VerifyOptions& options);
 
 } // namespace tearflow::verify

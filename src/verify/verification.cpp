@@ -42,6 +42,10 @@ const std::map<std::string, VerificationCase>& verification_cases() {
        {"three-outlet junction with RCR outlets: flow split of the 3D run against the 0D "
         "model of the outlets",
         verify_splits}},
+      {"tuning",
+       {"two-stage Windkessel tuning on a three-outlet junction: targets from a known "
+        "parameter set are met by the tuned outlets",
+        verify_tuning}},
   };
   return cases;
 }

@@ -1,0 +1,27 @@
+#pragma once
+// What outlet tuning aims at (`tearflow tune CASE --targets FILE`): the measured systolic,
+// diastolic and mean pressure at the inlet and the flow split over the outlets, plus how
+// close is close enough. docs/tuning.md documents the file.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tuning/windkessel_fit.hpp"
+
+namespace tearflow::tuning {
+
+struct TuningTargets {
+  InletPressures pressure;            ///< at the inlet [Pa]
+  std::vector<OutletFraction> splits; ///< per outlet, fractions summing to 1
+  double pressure_tolerance = 0.01;   ///< relative, per pressure
+  double split_tolerance = 0.5;       ///< percentage points, per outlet
+  int max_iterations = 4;             ///< 3D correction runs (0: the 0D stage only)
+  int cycles = 2;                     ///< cardiac cycles per 3D run; the last is measured
+};
+
+/// Reads and checks a targets file. InputError naming the file, line and key for unknown
+/// keys, bad values, splits that do not sum to 100 % within 0.5 points (rounding), or
+/// pressures no Windkessel can meet (0 < P_dias < MAP < P_sys).
+TuningTargets load_targets(const std::filesystem::path& file);
+
+} // namespace tearflow::tuning

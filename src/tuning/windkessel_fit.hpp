@@ -1,0 +1,58 @@
+#pragma once
+// Stage 1 of outlet tuning: the Windkessel totals (R_T, C_T, k_d) that make the 0D model of
+// the outlets (bc/windkessel_network.hpp) reproduce measured inlet pressures.
+//
+// As in the reference study (../shared/reference/tbad-study.md) the totals are distributed
+// over the outlets by their measured flow fractions f_i:
+//   R_i = R_T / f_i,  R_p,i = (1 - k_d) R_i,  R_d,i = k_d R_i,  C_i = C_T f_i,
+// so every outlet has the same time constant k_d R_T C_T and the mean flow splits as f_i.
+// The fit is a nonlinear least-squares problem in three unknowns for the three targets
+// (systolic, diastolic, mean inlet pressure), solved by Levenberg-Marquardt (Eigen's MINPACK
+// port) in the variables (ln R_T, ln C_T, logit k_d), which keeps every parameter in range.
+#include <string>
+#include <vector>
+
+#include "bc/waveform.hpp"
+#include "bc/windkessel_network.hpp"
+
+namespace tearflow::tuning {
+
+struct OutletFraction {
+  std::string face;
+  double fraction = 0.0; ///< f_i, share of the total outflow, in (0, 1]
+};
+
+struct WindkesselTotals {
+  double resistance = 0.0;   ///< R_T [Pa s/m^3]
+  double capacitance = 0.0;  ///< C_T [m^3/Pa]
+  double distal_share = 0.0; ///< k_d in (0, 1)
+};
+
+struct InletPressures {
+  double systolic = 0.0, diastolic = 0.0, mean = 0.0; ///< [Pa]
+};
+
+/// The outlets' RCRs from the totals (P_ref = 0).
+std::vector<bc::WindkesselBranch> distribute(const WindkesselTotals& totals,
+                                             const std::vector<OutletFraction>& outlets);
+
+/// Systolic, diastolic and mean inlet pressure of the 0D model's periodic state.
+InletPressures inlet_pressures(const bc::PeriodicState& state);
+InletPressures inlet_pressures(const bc::WindkesselNetwork& network, const bc::Waveform& inflow);
+
+struct FitResult {
+  WindkesselTotals totals;
+  InletPressures achieved;
+  double max_relative_error = 0.0; ///< over the three pressures
+  int evaluations = 0;
+};
+
+/// Fits the totals to the targets for the inflow Q_in(t) (periodic, positive mean) with the
+/// 3D domain's resistance `series_resistance` in series. `start` is the initial guess; a
+/// zero start means the default R_T = MAP / mean(Q), C_T = 1 s / R_T, k_d = 0.85.
+/// InputError when the targets are inconsistent (P_dias >= MAP >= P_sys, mean flow <= 0).
+FitResult fit_windkessel_totals(const InletPressures& targets, const bc::Waveform& inflow,
+                                const std::vector<OutletFraction>& outlets,
+                                double series_resistance = 0.0, WindkesselTotals start = {});
+
+} // namespace tearflow::tuning
