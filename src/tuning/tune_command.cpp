@@ -134,6 +134,8 @@ int TuneCommand::run(const std::string& cli_petsc) const {
   const std::filesystem::path out = output_.empty()
                                         ? in.parent_path() / (in.stem().string() + "-tuned.yaml")
                                         : std::filesystem::path(output_);
+  if (out.has_parent_path())
+    std::filesystem::create_directories(out.parent_path());
   const std::string tab = table(r, t);
   std::string header =
       fmt::format("# Tuned by `tearflow tune {} --targets {}`: {} after {} 3D "
