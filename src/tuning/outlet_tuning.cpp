@@ -124,7 +124,8 @@ TuningResult tune_outlets(const io::Case& c, const TuningTargets& t, bool progre
     f.push_back(o.fraction);
   InletPressures aim = t.pressure;
   for (int k = 0; k <= t.max_iterations; ++k) {
-    const FitResult fit = fit_windkessel_totals(aim, inflow.flow, fractions(t, f));
+    const FitResult fit =
+        fit_windkessel_totals(aim, inflow.flow, fractions(t, f), t.domain_resistance);
     TuningStep s;
     s.iteration = k;
     s.totals = fit.totals;
@@ -133,7 +134,8 @@ TuningResult tune_outlets(const io::Case& c, const TuningTargets& t, bool progre
     if (k == 0) { // the 0D stage's own prediction
       s.achieved = fit.achieved;
       const bc::PeriodicState st =
-          bc::WindkesselNetwork(distribute(fit.totals, fractions(t, f))).periodic(inflow.flow);
+          bc::WindkesselNetwork(distribute(fit.totals, fractions(t, f)), t.domain_resistance)
+              .periodic(inflow.flow);
       double total = 0.0;
       for (size_t i = 0; i < f.size(); ++i)
         total += st.mean_branch_flow(i);

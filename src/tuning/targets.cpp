@@ -11,7 +11,7 @@ namespace tearflow::tuning {
 
 TuningTargets load_targets(const std::filesystem::path& file) {
   const io::YamlValue root(file.string(), io::parse_yaml_file(file));
-  root.check_keys({"pressure", "splits", "tolerance", "iterations", "cycles"});
+  root.check_keys({"pressure", "splits", "tolerance", "iterations", "cycles", "domain_resistance"});
   TuningTargets t;
 
   const io::YamlValue p =
@@ -55,6 +55,8 @@ TuningTargets load_targets(const std::filesystem::path& file) {
     t.max_iterations = x->integer(0);
   if (auto x = root.get("cycles"))
     t.cycles = x->integer(1);
+  if (auto x = root.get("domain_resistance"))
+    t.domain_resistance = x->non_negative();
   return t;
 }
 

@@ -17,6 +17,7 @@ struct TuningTargets {
   double split_tolerance = 0.5;       ///< percentage points, per outlet
   int max_iterations = 4;             ///< 3D correction runs (0: the 0D stage only)
   int cycles = 2;                     ///< cardiac cycles per 3D run; the last is measured
+  double domain_resistance = 0.0;     ///< the 3D domain's own resistance when known [Pa s/m^3]
 };
 
 /// Reads and checks a targets file. InputError naming the file, line and key for unknown
