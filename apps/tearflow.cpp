@@ -21,6 +21,7 @@
 #include "io/case.hpp"
 #include "run/default_case.hpp"
 #include "run/simulation.hpp"
+#include "run/solid_simulation.hpp"
 #include "tuning/tune_command.hpp"
 #include "verify/verification.hpp"
 
@@ -42,14 +43,22 @@ int run_command(const std::string& case_file, bool restart, const std::string& o
   if (root && !quiet)
     fmt::print("tearflow run '{}': {} steps of {} s, output in '{}'\n", c.name, c.time.steps,
                c.time.step, c.output.directory.string());
-  run::Simulation sim(std::move(c));
-  if (root && !quiet)
-    fmt::print("mesh: {} nodes, {} tets on {} rank(s)\n", sim.mesh().num_nodes(),
-               sim.mesh().num_tets(), fem::mpi_size());
-  const run::RunSummary s = sim.run({restart, !quiet, true});
-  if (root && !quiet)
-    fmt::print("done: {} steps in {:.1f} s; results in '{}'\n", s.steps, s.wall_seconds,
-               sim.config().output.directory.string());
+  auto execute = [&](auto& sim) {
+    if (root && !quiet)
+      fmt::print("mesh: {} nodes, {} tets on {} rank(s)\n", sim.mesh().num_nodes(),
+                 sim.mesh().num_tets(), fem::mpi_size());
+    const run::RunSummary s = sim.run({restart, !quiet, true});
+    if (root && !quiet)
+      fmt::print("done: {} steps in {:.1f} s; results in '{}'\n", s.steps, s.wall_seconds,
+                 sim.config().output.directory.string());
+  };
+  if (c.solid && c.boundary_conditions.empty()) { // a solid-only case
+    run::SolidSimulation sim(std::move(c));
+    execute(sim);
+  } else {
+    run::Simulation sim(std::move(c));
+    execute(sim);
+  }
   return 0;
 }
 

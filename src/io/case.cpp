@@ -182,9 +182,8 @@ void resolve_period(Case& c, const YamlValue& time_node, const YamlValue& bcs_no
   if (c.time.steps_per_cycle == 0)
     length.node->fail(fmt::format("the period {} s is not a multiple of time.step = {} s",
                                   c.time.period, c.time.step));
-  const long steps =
-      static_cast<long>(length.cycles ? *length.cycles : *length.max_cycles) *
-      c.time.steps_per_cycle;
+  const long steps = static_cast<long>(length.cycles ? *length.cycles : *length.max_cycles) *
+                     c.time.steps_per_cycle;
   if (steps > INT_MAX)
     length.node->fail(fmt::format("{} steps are too many", steps));
   c.time.steps = static_cast<int>(steps);
@@ -391,7 +390,7 @@ Case load_case(const fs::path& file) {
   const YamlValue root(file.string(), parse_yaml_file(file));
   if (root.is_null())
     root.fail("the case file is empty; expected at least mesh, time and boundary_conditions");
-  root.check_keys({"name", "mesh", "fluid", "time", "boundary_conditions", "newton",
+  root.check_keys({"name", "mesh", "fluid", "solid", "time", "boundary_conditions", "newton",
                    "petsc_options", "output"});
   const fs::path case_dir = fs::absolute(file).parent_path();
 
@@ -405,10 +404,23 @@ Case load_case(const fs::path& file) {
   const YamlValue time_node = root.require("time", "a mapping with at least time.step");
   RunLength length;
   c.time = read_time(time_node, length);
-  const YamlValue bcs_node =
-      root.require("boundary_conditions", "a list of {face: ..., type: ...} mappings");
-  c.boundary_conditions = read_bcs(bcs_node, case_dir);
-  resolve_period(c, time_node, bcs_node, length);
+  if (auto solid = root.get("solid")) {
+    if (root.has("boundary_conditions")) // FSI: issue 10; never run the fluid alone silently
+      solid->fail("a case with both `solid` and `boundary_conditions` couples flow and wall "
+                  "(FSI), which this version does not run yet; give one of the two");
+    c.solid = read_solid(*solid, case_dir);
+  }
+  if (c.solid && !root.has("boundary_conditions")) { // solid-only: the solid's own conditions
+    if (length.node)
+      length.node->fail("time.cycles and time.periodicity apply to flow cases; give time.steps "
+                        "or time.end");
+    c.time.steps = length.steps.value_or(c.time.steps);
+  } else {
+    const YamlValue bcs_node =
+        root.require("boundary_conditions", "a list of {face: ..., type: ...} mappings");
+    c.boundary_conditions = read_bcs(bcs_node, case_dir);
+    resolve_period(c, time_node, bcs_node, length);
+  }
   if (auto newton = root.get("newton"))
     c.newton = read_newton(*newton);
   if (auto petsc = root.get("petsc_options"))

@@ -10,6 +10,7 @@
 
 #include "bc/waveform.hpp"
 #include "bc/windkessel.hpp"
+#include "io/case_solid.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pipe_generator.hpp"
 
@@ -86,6 +87,7 @@ struct Case {
   FluidSpec fluid;
   TimeSpec time;
   std::vector<BoundaryCondition> boundary_conditions;
+  std::optional<SolidSpec> solid; ///< the wall; a solid-only case has no fluid conditions
   NewtonSpec newton;
   std::string petsc_options; ///< passed to PETSc's options database as is
   OutputSpec output;

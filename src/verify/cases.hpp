@@ -11,5 +11,10 @@ VerificationResult verify_rcr(const VerifyOptions& options);
 VerificationResult verify_splits(const VerifyOptions& options);
 // Outlet tuning (tuning.cpp).
 VerificationResult verify_tuning(const VerifyOptions& options);
+// Solid (solid_statics.cpp, solid_dynamics.cpp).
+VerificationResult verify_uniaxial(const VerifyOptions& options);
+VerificationResult verify_lame(const VerifyOptions& options);
+VerificationResult verify_robin(const VerifyOptions& options);
+VerificationResult verify_energy(const VerifyOptions& options);
 
 } // namespace tearflow::verify

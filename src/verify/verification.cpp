@@ -46,6 +46,21 @@ const std::map<std::string, VerificationCase>& verification_cases() {
        {"two-stage Windkessel tuning on a three-outlet junction: targets from a known "
         "parameter set are met by the tuned outlets",
         verify_tuning}},
+      {"uniaxial",
+       {"Neo-Hookean and St. Venant-Kirchhoff unit cube stretched to 1.5: Cauchy stress "
+        "against the closed form",
+        verify_uniaxial}},
+      {"lame",
+       {"thick cylinder under inner pressure, plane strain, nu = 0.3 and 0.49: radial "
+        "displacement against Lame (no locking)",
+        verify_lame}},
+      {"robin",
+       {"column on the spring-dashpot tissue support under a step load: settled "
+        "displacement, and faster settling with damping",
+        verify_robin}},
+      {"energy",
+       {"undamped free axial oscillation of a bar, rho_inf = 1: total energy over 10 periods",
+        verify_energy}},
   };
   return cases;
 }
