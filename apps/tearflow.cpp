@@ -3,6 +3,7 @@
 //   tearflow verify NAME [--convergence] | --list
 //   tearflow geometry tbad|import|report ...   (docs/geometry.md)
 //   tearflow tune CASE.yaml --targets TARGETS.yaml [-o TUNED.yaml]   (docs/tuning.md)
+//   tearflow analyze RUN_DIR [--landmarks FILE] [--cycle N | --frames all]   (docs/analysis.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "analysis/analyze_command.hpp"
 #include "core/error.hpp"
 #include "fem/petsc.hpp"
 #include "geometry/geometry_command.hpp"
@@ -131,6 +133,7 @@ int main(int argc, char** argv) {
   verify->add_flag("--progress", progress, "progress lines on stderr");
   const geometry::GeometryCommand geometry_command(app);
   const tuning::TuneCommand tune_command(app);
+  const analysis::AnalyzeCommand analyze_command(app);
 
   int code = 0;
   try {
@@ -143,6 +146,8 @@ int main(int argc, char** argv) {
       code = geometry_command.run();
     if (tune_command.selected())
       code = tune_command.run(cli_petsc);
+    if (analyze_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
+      code = analyze_command.run();
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
   } catch (const InputError& e) {

@@ -1,0 +1,281 @@
+#include "analysis/hemodynamics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+
+#include <fmt/format.h>
+#include <vtkUnstructuredGrid.h>
+
+#include "core/error.hpp"
+#include "core/units.hpp"
+#include "io/vtu_series.hpp"
+
+namespace tearflow::analysis {
+
+namespace {
+
+using nlohmann::json;
+using Sampler = std::function<double(const SectionValues&)>;
+
+const Sampler flow_of = [](const SectionValues& v) { return v.flow; };
+const Sampler area_of = [](const SectionValues& v) { return v.area; };
+const Sampler pressure_of = [](const SectionValues& v) { return v.pressure; };
+
+std::vector<double> sampled(const LandmarkSeries& s, const Sampler& f) {
+  std::vector<double> out;
+  for (const SectionValues& v : s.samples)
+    out.push_back(f(v));
+  return out;
+}
+
+/// int f dt by the trapezoidal rule over the frames.
+double integral(const std::vector<double>& t, const std::vector<double>& f) {
+  double sum = 0;
+  for (std::size_t i = 1; i < t.size(); ++i)
+    sum += 0.5 * (t[i] - t[i - 1]) * (f[i] + f[i - 1]);
+  return sum;
+}
+
+/// Time mean over the frames; a single frame is its own mean.
+double time_mean(const std::vector<double>& t, const std::vector<double>& f) {
+  return t.size() < 2 ? f.front() : integral(t, f) / (t.back() - t.front());
+}
+
+json pressure_json(const std::string& stem, double p) {
+  return {{stem + "_Pa", p}, {stem + "_mmHg", p / units::mmHg}};
+}
+
+// Names of the study's pressure landmarks, in its order.
+bool is_pressure_landmark(const geometry::Landmark& l) {
+  return l.name == "inlet" || l.name == "outlet" || station_of(l) > 0;
+}
+
+json landmark_json(const Analysis& a, const LandmarkSeries& s) {
+  const std::vector<double> q = sampled(s, flow_of), area = sampled(s, area_of),
+                            p = sampled(s, pressure_of);
+  double u_max = -INFINITY;
+  for (const SectionValues& v : s.samples)
+    u_max = std::max(u_max, v.max_velocity);
+  const double a0 = area.front(), a_max = *std::max_element(area.begin(), area.end());
+  json j{{"lumen", s.landmark.lumen},
+         {"net_flow_volume_m3", integral(a.time, q)},
+         {"net_flow_volume_mL", integral(a.time, q) / units::mL},
+         {"mean_flow_m3_per_s", time_mean(a.time, q)},
+         {"peak_flow_m3_per_s", *std::max_element(q.begin(), q.end())},
+         {"A_0_m2", a0},
+         {"A_0_mm2", a0 / (units::mm * units::mm)},
+         {"A_max_m2", a_max},
+         {"A_max_mm2", a_max / (units::mm * units::mm)},
+         {"A_mean_m2", time_mean(a.time, area)},
+         {"A_mean_mm2", time_mean(a.time, area) / (units::mm * units::mm)},
+         {"A_max_over_A_0", a_max / a0},
+         {"max_through_plane_velocity_m_per_s", u_max}};
+  j.update(pressure_json("mean_pressure", time_mean(a.time, p)));
+  j.update(pressure_json("peak_systolic_pressure", p[a.peak_systole]));
+  j.update(pressure_json("end_diastolic_pressure", p[a.end_diastole]));
+  return j;
+}
+
+} // namespace
+
+const LandmarkSeries* Analysis::find(const std::string& name) const {
+  for (const LandmarkSeries& s : series)
+    if (s.landmark.name == name)
+      return &s;
+  return nullptr;
+}
+
+std::vector<FlowFrame> select_frames(const AnalyzeOptions& o, std::string& label) {
+  std::vector<FlowFrame> frames = read_pvd(o.run_dir / "flow.pvd");
+  if (o.all_frames) {
+    label = "all saved frames";
+    return frames;
+  }
+  const std::filesystem::path file = o.run_dir / "cycles.json";
+  std::ifstream in(file);
+  if (!in)
+    input_error("'{}' does not exist: the run has no complete cardiac cycle (or no period); "
+                "use --frames all to analyse every saved frame",
+                file.string());
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::exception& e) {
+    input_error("'{}': not valid JSON: {}", file.string(), e.what());
+  }
+  const json cycles = j.value("cycles", json::array());
+  if (!cycles.is_array() || cycles.empty())
+    input_error("'{}': the run has no complete cardiac cycle; use --frames all to analyse "
+                "every saved frame",
+                file.string());
+  json chosen = cycles.back();
+  if (o.cycle) {
+    const auto it = std::find_if(cycles.begin(), cycles.end(), [&](const json& c) {
+      return c.value("cycle", -1) == *o.cycle;
+    });
+    if (it == cycles.end())
+      input_error("'{}': no complete cycle {} (the run completed cycles 1 to {})", file.string(),
+                  *o.cycle, cycles.back().value("cycle", 0));
+    chosen = *it;
+  }
+  const double t0 = chosen.at("t_begin_s").get<double>(), t1 = chosen.at("t_end_s").get<double>();
+  // Frame times are printed with 10 significant digits (io/vtu_series.cpp).
+  const double slack = 1e-9 * std::max(1.0, std::abs(t1)) + 1e-12;
+  std::erase_if(frames,
+                [&](const FlowFrame& f) { return f.time < t0 - slack || f.time > t1 + slack; });
+  const int number = chosen.value("cycle", 0);
+  if (frames.size() < 2)
+    input_error("'{}': cycle {} (t = {} to {} s) holds {} saved frame(s) in flow.pvd; the "
+                "analysis needs at least two (save frames more often: output.every)",
+                file.string(), number, t0, t1, frames.size());
+  label = fmt::format("cycle {}", number);
+  return frames;
+}
+
+Analysis analyze_run(const AnalyzeOptions& o) {
+  const std::filesystem::path landmarks_file =
+      o.landmarks.empty() ? o.run_dir / "geometry" / "landmarks.json" : o.landmarks;
+  const geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_file);
+  Analysis a;
+  const std::vector<FlowFrame> frames = select_frames(o, a.frames);
+  for (const geometry::Landmark& l : landmarks.planes)
+    a.series.push_back({l, {}});
+  for (const FlowFrame& f : frames) {
+    const auto grid = read_flow_frame(f.file);
+    const std::vector<SectionValues> v = measure_landmarks(grid, landmarks, f.file.string());
+    for (std::size_t i = 0; i < v.size(); ++i)
+      a.series[i].samples.push_back(v[i]);
+    a.time.push_back(f.time);
+  }
+  const LandmarkSeries* inlet = a.find("inlet");
+  const std::vector<double> q = sampled(inlet ? *inlet : a.series.front(), flow_of);
+  a.peak_systole = static_cast<std::size_t>(std::max_element(q.begin(), q.end()) - q.begin());
+  a.end_diastole = 0;
+  return a;
+}
+
+json metrics_json(const Analysis& a) {
+  json j{{"frames", a.frames},
+         {"frame_count", a.time.size()},
+         {"t_begin_s", a.time.front()},
+         {"t_end_s", a.time.back()},
+         {"peak_systole_time_s", a.time[a.peak_systole]},
+         {"end_diastole_time_s", a.time[a.end_diastole]}};
+  json landmarks = json::object();
+  for (const LandmarkSeries& s : a.series)
+    landmarks[s.landmark.name] = landmark_json(a, s);
+
+  // Paired stations.
+  std::map<int, std::pair<const LandmarkSeries*, const LandmarkSeries*>> stations;
+  for (const LandmarkSeries& s : a.series)
+    if (const int k = station_of(s.landmark); k > 0)
+      (s.landmark.lumen == "TL" ? stations[k].first : stations[k].second) = &s;
+  json station_json = json::object();
+  const LandmarkSeries *prox = a.find("DAo_prox"), *dist = a.find("DAo_dist");
+  for (const auto& [k, pair] : stations) {
+    const auto [tl, fl] = pair;
+    if (!tl || !fl)
+      continue;
+    const double q_tl = time_mean(a.time, sampled(*tl, flow_of)),
+                 q_fl = time_mean(a.time, sampled(*fl, flow_of));
+    std::vector<double> dp;
+    for (std::size_t i = 0; i < a.time.size(); ++i)
+      dp.push_back(tl->samples[i].pressure - fl->samples[i].pressure);
+    json s{{"FR_FL_percent", q_fl / (q_fl + q_tl) * 100.0},
+           {"mean_flow_TL_m3_per_s", q_tl},
+           {"mean_flow_FL_m3_per_s", q_fl}};
+    s.update(pressure_json("dP_TL_minus_FL_peak_systole", dp[a.peak_systole]));
+    s.update(pressure_json("dP_TL_minus_FL_end_diastole", dp[a.end_diastole]));
+    s.update(pressure_json("dP_TL_minus_FL_mean", time_mean(a.time, dp)));
+    // Q_TL + Q_FL against the undivided aorta above and below the dissection: the largest
+    // difference over the frames relative to the reference's peak |Q|.
+    for (const auto& [name, ref] : {std::pair{"DAo_prox", prox}, {"DAo_dist", dist}}) {
+      if (!ref)
+        continue;
+      double worst = 0, peak = 0;
+      for (std::size_t i = 0; i < a.time.size(); ++i) {
+        const double sum = tl->samples[i].flow + fl->samples[i].flow;
+        worst = std::max(worst, std::abs(sum - ref->samples[i].flow));
+        peak = std::max(peak, std::abs(ref->samples[i].flow));
+      }
+      s[fmt::format("flow_conservation_vs_{}_max_abs_difference_m3_per_s", name)] = worst;
+      s[fmt::format("flow_conservation_vs_{}_relative_to_peak", name)] =
+          peak > 0 ? json(worst / peak) : json(nullptr);
+    }
+    station_json[std::to_string(k)] = s;
+  }
+
+  // Pressures along the dissection relative to the inlet, at peak systole.
+  json normalised = json::object(), drops = json::object();
+  if (const LandmarkSeries* inlet = a.find("inlet")) {
+    const double p_in = inlet->samples[a.peak_systole].pressure;
+    for (const LandmarkSeries& s : a.series)
+      if (is_pressure_landmark(s.landmark))
+        normalised[s.landmark.name] = s.samples[a.peak_systole].pressure / p_in;
+  }
+  auto drop = [&](const char* key, const char* from, const char* to) {
+    const LandmarkSeries *f = a.find(from), *t = a.find(to);
+    if (!f || !t)
+      return;
+    const double ps = f->samples[a.peak_systole].pressure - t->samples[a.peak_systole].pressure;
+    const double mean = time_mean(a.time, sampled(*f, pressure_of)) -
+                        time_mean(a.time, sampled(*t, pressure_of));
+    json d = pressure_json("peak_systole", ps);
+    d.update(pressure_json("mean", mean));
+    drops[key] = d;
+  };
+  drop("entry_tear_inlet_to_FL1", "inlet", "FL1");
+  drop("exit_tear_FL5_to_outlet", "FL5", "outlet");
+  drop("inlet_to_outlet", "inlet", "outlet");
+
+  j["landmarks"] = landmarks;
+  j["stations"] = station_json;
+  j["peak_systolic_pressure_over_inlet"] = normalised;
+  j["pressure_drops"] = drops;
+  return j;
+}
+
+void write_analysis(const Analysis& a, const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  io::write_file_atomically(dir / "metrics.json", metrics_json(a).dump(2) + "\n");
+  for (const LandmarkSeries& s : a.series) {
+    std::string csv = "time_s,flow_m3_per_s,flow_mL_per_s,area_m2,area_mm2,area_over_A_0,"
+                      "mean_pressure_Pa,mean_pressure_mmHg,max_through_plane_velocity_m_per_s\n";
+    const double a0 = s.samples.front().area;
+    for (std::size_t i = 0; i < a.time.size(); ++i) {
+      const SectionValues& v = s.samples[i];
+      csv += fmt::format("{:.10g},{:.10e},{:.10g},{:.10e},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
+                         a.time[i], v.flow, v.flow / units::mL, v.area,
+                         v.area / (units::mm * units::mm), v.area / a0, v.pressure,
+                         v.pressure / units::mmHg, v.max_velocity);
+    }
+    io::write_file_atomically(dir / (s.landmark.name + ".csv"), csv);
+  }
+  // dP(t) at the paired stations, one column per station.
+  std::vector<std::pair<const LandmarkSeries*, const LandmarkSeries*>> pairs;
+  std::string header = "time_s";
+  for (const LandmarkSeries& tl : a.series) {
+    const int k = station_of(tl.landmark);
+    if (k == 0 || tl.landmark.lumen != "TL")
+      continue;
+    if (const LandmarkSeries* fl = a.find(fmt::format("FL{}", k))) {
+      pairs.push_back({&tl, fl});
+      header += fmt::format(",dP{}_TL_minus_FL_Pa", k);
+    }
+  }
+  if (pairs.empty())
+    return;
+  std::string csv = header + "\n";
+  for (std::size_t i = 0; i < a.time.size(); ++i) {
+    csv += fmt::format("{:.10g}", a.time[i]);
+    for (const auto& [tl, fl] : pairs)
+      csv += fmt::format(",{:.10g}", tl->samples[i].pressure - fl->samples[i].pressure);
+    csv += "\n";
+  }
+  io::write_file_atomically(dir / "pressure_difference.csv", csv);
+}
+
+} // namespace tearflow::analysis

@@ -1,0 +1,66 @@
+#pragma once
+// `tearflow analyze`: the reference study's quantities at the landmark planes of a run
+// (../shared/reference/tbad-study.md, "Quantities the study reports"), over the last
+// complete cardiac cycle, a chosen one, or every saved frame:
+//   - per landmark (lumen): Q(t), A(t), P(t), max u.n(t); net flow volume int Q dt; A_0 (first
+//     frame, end diastole), A_max, A_mean, A(t) / A_0;
+//   - per paired station k: FR_FL = Qbar_FL / (Qbar_FL + Qbar_TL) * 100 with cycle-mean flows,
+//     dP(t) = P_TLk - P_FLk and its peak-systolic and end-diastolic values;
+//   - peak-systolic pressure at inlet, TLk, FLk and outlet over the inlet's; pressure drops
+//     inlet -> FL1 (entry tear), FL5 -> outlet (exit tear), inlet -> outlet;
+//   - flow conservation: Q_TLk + Q_FLk against DAo_prox / DAo_dist at every frame.
+// Peak systole is the frame of largest flow through the `inlet` landmark (the first landmark
+// when there is none); end diastole the first frame. Time means and volumes use the
+// trapezoidal rule over the frames, as cycles.json does.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/landmark_sections.hpp"
+#include "geometry/landmarks.hpp"
+
+namespace tearflow::analysis {
+
+struct AnalyzeOptions {
+  std::filesystem::path run_dir;
+  std::filesystem::path landmarks; ///< empty: RUN_DIR/geometry/landmarks.json
+  std::optional<int> cycle;        ///< as numbered in cycles.json; none: the last complete one
+  bool all_frames = false;         ///< every saved frame, no complete cycle needed
+  std::filesystem::path output;    ///< empty: RUN_DIR/analysis
+};
+
+/// One landmark's section values over the frames.
+struct LandmarkSeries {
+  geometry::Landmark landmark;
+  std::vector<SectionValues> samples; ///< per frame
+};
+
+struct Analysis {
+  std::string frames;       ///< what was analysed, e.g. "cycle 3" or "all saved frames"
+  std::vector<double> time; ///< per frame [s]
+  std::vector<LandmarkSeries> series;
+  std::size_t peak_systole = 0; ///< frame index
+  std::size_t end_diastole = 0; ///< frame index (the first)
+
+  /// The series of landmark `name`, nullptr if there is none.
+  const LandmarkSeries* find(const std::string& name) const;
+};
+
+/// The frames to analyse (cycle choice above); InputError naming cycles.json or the .pvd
+/// when there is no complete cycle, the chosen one does not exist or holds < 2 frames.
+std::vector<FlowFrame> select_frames(const AnalyzeOptions& options, std::string& label);
+
+/// Reads the frames and measures every landmark of each (see measure_landmarks).
+Analysis analyze_run(const AnalyzeOptions& options);
+
+/// The headline numbers; every key names its unit.
+nlohmann::json metrics_json(const Analysis& analysis);
+
+/// Writes metrics.json, one CSV per landmark (`<name>.csv`) and, when there are paired
+/// stations, `pressure_difference.csv` into `directory`.
+void write_analysis(const Analysis& analysis, const std::filesystem::path& directory);
+
+} // namespace tearflow::analysis

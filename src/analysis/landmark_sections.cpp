@@ -1,0 +1,205 @@
+#include "analysis/landmark_sections.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <regex>
+
+#include <vtkCellData.h>
+#include <vtkCellLocator.h>
+#include <vtkConnectivityFilter.h>
+#include <vtkCutter.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkIntegrateAttributes.h>
+#include <vtkPlane.h>
+#include <vtkPointData.h>
+#include <vtkPointSet.h>
+#include <vtkPolyData.h>
+#include <vtkThreshold.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include "core/error.hpp"
+#include "core/units.hpp"
+
+namespace tearflow::analysis {
+
+namespace {
+
+constexpr const char* kThroughPlane = "through_plane_velocity";
+constexpr const char* kRegion = "RegionId";
+// A lumen point may sit off its region by rounding in the landmarks file (mm with a few
+// digits) or because a moving wall shifted the section; beyond this fraction of the
+// region's equivalent radius sqrt(A / pi) it belongs to another lumen or to none.
+constexpr double kPointSlack = 0.1;
+
+Vec3 unit(const Vec3& v) {
+  return (1.0 / std::sqrt(dot(v, v))) * v;
+}
+
+/// The plane's fluid section with per-point u.n and its connected regions coloured.
+struct PlaneSection {
+  vtkSmartPointer<vtkPointSet> regions; // cell and point data "RegionId"
+  vtkSmartPointer<vtkCellLocator> locator;
+};
+
+PlaneSection cut(vtkUnstructuredGrid* grid, const Vec3& origin, const Vec3& normal) {
+  auto plane = vtkSmartPointer<vtkPlane>::New();
+  plane->SetOrigin(origin[0], origin[1], origin[2]);
+  plane->SetNormal(normal[0], normal[1], normal[2]);
+  auto cutter = vtkSmartPointer<vtkCutter>::New();
+  cutter->SetCutFunction(plane);
+  cutter->SetInputData(grid);
+  cutter->Update();
+  vtkPolyData* section = cutter->GetOutput();
+  PlaneSection s;
+  if (section->GetNumberOfCells() == 0)
+    return s;
+  // The through-plane velocity as a point field, so that the integrator gives Q directly.
+  vtkDataArray* velocity = section->GetPointData()->GetArray("velocity");
+  auto un = vtkSmartPointer<vtkDoubleArray>::New();
+  un->SetName(kThroughPlane);
+  un->SetNumberOfTuples(section->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < section->GetNumberOfPoints(); ++i) {
+    double u[3];
+    velocity->GetTuple(i, u);
+    un->SetValue(i, u[0] * normal[0] + u[1] * normal[1] + u[2] * normal[2]);
+  }
+  section->GetPointData()->AddArray(un);
+  // vtkCutter merges coincident points, so cut polygons of neighbouring tets share points
+  // and the connectivity of the section follows that of the fluid.
+  auto connectivity = vtkSmartPointer<vtkConnectivityFilter>::New();
+  connectivity->SetInputData(section);
+  connectivity->SetExtractionModeToAllRegions();
+  connectivity->ColorRegionsOn();
+  connectivity->Update();
+  s.regions = connectivity->GetOutput();
+  s.locator = vtkSmartPointer<vtkCellLocator>::New();
+  s.locator->SetDataSet(s.regions);
+  s.locator->BuildLocator();
+  return s;
+}
+
+/// Integrals over region `region` of a section.
+SectionValues integrate(vtkPointSet* regions, vtkIdType region) {
+  auto threshold = vtkSmartPointer<vtkThreshold>::New();
+  threshold->SetInputData(regions);
+  threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kRegion);
+  threshold->SetLowerThreshold(static_cast<double>(region) - 0.5);
+  threshold->SetUpperThreshold(static_cast<double>(region) + 0.5);
+  threshold->SetThresholdFunction(vtkThreshold::THRESHOLD_BETWEEN);
+  threshold->Update();
+  vtkUnstructuredGrid* piece = threshold->GetOutput();
+  auto integrator = vtkSmartPointer<vtkIntegrateAttributes>::New();
+  integrator->SetInputData(piece);
+  integrator->Update();
+  vtkUnstructuredGrid* sums = integrator->GetOutput();
+  SectionValues v;
+  v.area = sums->GetCellData()->GetArray("Area")->GetTuple1(0);
+  v.flow = sums->GetPointData()->GetArray(kThroughPlane)->GetTuple1(0);
+  v.pressure = sums->GetPointData()->GetArray("pressure")->GetTuple1(0) / v.area;
+  // P1 along the section: the maximum of u.n over a polygon is at one of its points.
+  vtkDataArray* un = piece->GetPointData()->GetArray(kThroughPlane);
+  v.max_velocity = -std::numeric_limits<double>::infinity();
+  for (vtkIdType i = 0; i < un->GetNumberOfTuples(); ++i)
+    v.max_velocity = std::max(v.max_velocity, un->GetTuple1(i));
+  return v;
+}
+
+} // namespace
+
+int station_of(const geometry::Landmark& l) {
+  static const std::regex paired(R"((TL|FL)([0-9]+))");
+  std::smatch m;
+  return std::regex_match(l.name, m, paired) ? std::stoi(m[2]) : 0;
+}
+
+std::vector<FlowFrame> read_pvd(const std::filesystem::path& pvd) {
+  std::ifstream in(pvd);
+  if (!in)
+    input_error("cannot open '{}' (is this a run's output directory?)", pvd.string());
+  const std::regex entry(R"re(timestep="([^"]+)".*file="([^"]+)")re");
+  std::vector<FlowFrame> frames;
+  std::string line;
+  std::smatch m;
+  while (std::getline(in, line))
+    if (std::regex_search(line, m, entry))
+      frames.push_back({std::stod(m[1]), pvd.parent_path() / m[2].str()});
+  if (frames.empty())
+    input_error("'{}' lists no frame", pvd.string());
+  std::stable_sort(frames.begin(), frames.end(),
+                   [](const FlowFrame& a, const FlowFrame& b) { return a.time < b.time; });
+  return frames;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path& vtu) {
+  if (!std::filesystem::exists(vtu))
+    input_error("frame '{}' does not exist", vtu.string());
+  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+  reader->SetFileName(vtu.c_str());
+  reader->Update();
+  vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
+  if (grid == nullptr || grid->GetNumberOfCells() == 0)
+    input_error("frame '{}': no cells (not a VTU file?)", vtu.string());
+  vtkDataArray* u = grid->GetPointData()->GetArray("velocity");
+  if (u == nullptr || u->GetNumberOfComponents() != 3)
+    input_error("frame '{}': no point field 'velocity' with 3 components", vtu.string());
+  if (grid->GetPointData()->GetArray("pressure") == nullptr)
+    input_error("frame '{}': no point field 'pressure'", vtu.string());
+  return grid;
+}
+
+std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
+                                             const geometry::Landmarks& landmarks,
+                                             const std::string& frame) {
+  std::vector<SectionValues> values;
+  PlaneSection section;
+  int section_id = -1; // TLk and FLk share one plane: cut it once
+  Vec3 cut_origin{}, cut_normal{};
+  // per station: (section id, region id) of its TL and FL landmark
+  std::map<int, std::map<std::string, std::pair<int, vtkIdType>>> stations;
+  for (const geometry::Landmark& l : landmarks.planes) {
+    const Vec3 n = unit(l.normal);
+    if (section_id < 0 || l.origin != cut_origin || n != cut_normal) {
+      section = cut(grid, l.origin, n);
+      ++section_id;
+      cut_origin = l.origin;
+      cut_normal = n;
+    }
+    if (!section.regions)
+      input_error("{}: the plane of landmark '{}' (origin ({:.2f}, {:.2f}, {:.2f}) mm) misses "
+                  "the fluid mesh",
+                  frame, l.name, l.origin[0] / units::mm, l.origin[1] / units::mm,
+                  l.origin[2] / units::mm);
+    const Vec3 p = l.point.value_or(l.origin);
+    const Vec3 q = p - dot(p - l.origin, n) * n; // rounding may lift it off the plane
+    double closest[3], dist2 = 0;
+    vtkIdType cell = -1;
+    int sub = 0;
+    section.locator->FindClosestPoint(q.data(), closest, cell, sub, dist2);
+    const vtkIdType region = static_cast<vtkIdType>(
+        section.regions->GetCellData()->GetArray(kRegion)->GetTuple1(cell));
+    const SectionValues v = integrate(section.regions, region);
+    if (std::sqrt(dist2) > kPointSlack * std::sqrt(v.area / M_PI))
+      input_error("{}: landmark '{}': its lumen point ({:.2f}, {:.2f}, {:.2f}) mm is not inside "
+                  "the fluid section of its plane (nearest fluid {:.2f} mm away)",
+                  frame, l.name, q[0] / units::mm, q[1] / units::mm, q[2] / units::mm,
+                  std::sqrt(dist2) / units::mm);
+    if (const int k = station_of(l); k > 0)
+      stations[k][l.lumen] = {section_id, region};
+    values.push_back(v);
+  }
+  for (const auto& [k, lumina] : stations) {
+    const auto tl = lumina.find("TL"), fl = lumina.find("FL");
+    if (tl != lumina.end() && fl != lumina.end() && tl->second == fl->second)
+      input_error("{}: station {}: the points of TL{} and FL{} lie in one connected region of "
+                  "the plane's fluid section; a paired station needs two (the true and the "
+                  "false lumen, separated by the flap). Does the plane cross a tear?",
+                  frame, k, k, k);
+  }
+  return values;
+}
+
+} // namespace tearflow::analysis

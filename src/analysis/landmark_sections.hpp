@@ -1,0 +1,61 @@
+#pragma once
+// Flow through the landmark planes of one saved frame: the fluid mesh of the frame is cut by
+// each landmark's plane (vtkCutter), the section is split into its connected regions
+// (vtkConnectivityFilter), the region holding the landmark's lumen point is kept, and the
+// fields are integrated over it (vtkIntegrateAttributes):
+//   Q = int_S u.n dA,  A = int_S dA,  P = (1 / A) int_S p dA,  u_max = max_S u.n,
+// n the landmark's unit normal (downstream). The fields are P1, so the section carries them
+// exactly (linear along each cut edge) and the integrals are exact for the P1 fields on the
+// polygonal section; what differs from a smooth vessel is only the section's shape.
+//
+// The section of a plane can hold more regions than the landmark's lumen (a plane through
+// the descending aorta can also cut the arch, and TLk / FLk share one plane): the lumen
+// point (the landmark's `point`, else its origin), projected onto the plane, picks the
+// region that contains it. The two landmarks of a paired station TLk / FLk must pick two
+// different regions.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <vtkSmartPointer.h>
+
+#include "geometry/landmarks.hpp"
+
+class vtkUnstructuredGrid;
+
+namespace tearflow::analysis {
+
+/// One entry of a `.pvd` collection.
+struct FlowFrame {
+  double time = 0.0; ///< [s]
+  std::filesystem::path file;
+};
+
+/// The frames of a `.pvd` collection in time order (paths resolved against its folder);
+/// InputError naming the file when it is missing or lists no frame.
+std::vector<FlowFrame> read_pvd(const std::filesystem::path& pvd);
+
+/// Reads a frame's VTU; InputError naming the file when it cannot be read or lacks the point
+/// fields `velocity` (3 components) or `pressure`.
+vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path& vtu);
+
+/// The integrals over one landmark's lumen section, SI.
+struct SectionValues {
+  double flow = 0.0;         ///< Q = int u.n dA [m^3/s]
+  double area = 0.0;         ///< A [m^2]
+  double pressure = 0.0;     ///< area-mean pressure [Pa]
+  double max_velocity = 0.0; ///< largest through-plane velocity u.n [m/s]
+};
+
+/// The section values of every landmark in `landmarks.planes` (same order) on `grid`.
+/// InputError naming the landmark and `frame` when a plane misses the fluid, when a lumen
+/// point is not in the plane's fluid section, or when the TLk and FLk points of a station
+/// fall in one connected region.
+std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
+                                             const geometry::Landmarks& landmarks,
+                                             const std::string& frame);
+
+/// The station number k of a paired landmark "TLk" / "FLk" (0 for other names).
+int station_of(const geometry::Landmark& landmark);
+
+} // namespace tearflow::analysis
