@@ -2,6 +2,12 @@
 // Built-in straight-pipe meshes (through the Gmsh SDK) for tests, verification and
 // benchmarks. The pipe axis is z, from z = 0 (face `inlet`) to z = length (face `outlet`);
 // the lateral surface is face `wall`; the volume region is `fluid`.
+//
+// With a wall thickness h > 0 the pipe gets a wall: regions `fluid` (the lumen, radius r)
+// and `wall` (the annulus r..r+h), one conforming mesh sharing the interface nodes, faces
+// `inlet`, `outlet` (fluid caps), `interface` (between the regions), `wall_inlet`,
+// `wall_outlet` (the wall's end rings) and `outer_wall`: the compliant tube of the FSI
+// verification cases.
 #include <filesystem>
 
 #include "mesh/mesh.hpp"
@@ -12,6 +18,7 @@ struct PipeSpec {
   double radius = 0.01;        ///< [m]
   double length = 0.1;         ///< [m]
   double element_size = 0.002; ///< target tetrahedron edge length [m]
+  double wall_thickness = 0.0; ///< > 0: a wall region around the lumen [m]
 };
 
 /// Throws InputError on non-positive dimensions or a size that would give over 20 M tets.

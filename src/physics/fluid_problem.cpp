@@ -14,15 +14,18 @@ constexpr std::uint8_t all_velocity = 0b111;
 
 FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh,
                            FluidProperties fluid, bc::FluidConditions conditions,
-                           GeneralizedAlpha scheme)
-    : dmesh_(dmesh), dofs_(dmesh, block), inserter_(dofs_), fluid_(fluid),
+                           GeneralizedAlpha scheme, FieldLayout layout)
+    : dmesh_(dmesh), layout_(layout), B_(layout.block), P_(layout.pressure),
+      dofs_(dmesh, layout.block), inserter_(dofs_), fluid_(fluid),
       conditions_(std::move(conditions)), scheme_(scheme) {
   const auto n_local = static_cast<size_t>(dmesh.num_local());
+  elements_ = layout_.elements(dmesh);
+  x_ = dmesh.points();
+  w_.assign(n_local, Vec3{});
   geometry_.resize(dmesh.tets().size());
-  for (size_t e = 0; e < geometry_.size(); ++e) {
+  for (size_t e : elements_) {
     const Tet& t = dmesh.tets()[e];
-    const auto& x = dmesh.points();
-    geometry_[e] = fem::tet_geometry({x[t[0]], x[t[1]], x[t[2]], x[t[3]]});
+    geometry_[e] = fem::tet_geometry({x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]});
   }
   stab_.resize(geometry_.size());
 
@@ -57,30 +60,15 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
         dirichlet_rows_.push_back(dofs_.global_dof(l, c));
   }
 
-  // Outlets: v_ai = int N_a n_i over this rank's triangles, summed into the global vector.
   for (const bc::TractionOutlet& spec : conditions_.outlets) {
     OutletData o{spec, 0, dofs_.create_global(), 0.0, {spec.initial_distal_pressure, 0.0}, {}};
     const auto& faces = dmesh.faces();
     o.face_index = std::find_if(faces.begin(), faces.end(),
                                 [&](const fem::LocalFace& f) { return f.name == spec.face; }) -
                    faces.begin();
-    fem::OwnedVec v_loc = dofs_.create_local();
-    {
-      fem::WriteArray v(v_loc);
-      for (const Tri& t : faces[o.face_index].triangles) {
-        double area;
-        Vec3 n;
-        bc::triangle_area_normal(dmesh.points()[t[0]], dmesh.points()[t[1]], dmesh.points()[t[2]],
-                                 area, n);
-        for (Index l : t)
-          for (int c = 0; c < 3; ++c)
-            if (!((dirichlet_[l] >> c) & 1))
-              v[block * l + c] += area / 3.0 * n[c];
-      }
-    }
-    dofs_.add_local_to_global(v_loc, o.v);
     outlets_.push_back(std::move(o));
   }
+  compute_outlet_vectors();
 
   U_loc_ = dofs_.create_local();
   R_loc_ = dofs_.create_local();
@@ -91,6 +79,38 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
   p_.resize(n_local);
 }
 
+void FluidProblem::compute_outlet_vectors() {
+  // v_ai = int N_a n_i over this rank's triangles, summed into the global vector.
+  for (OutletData& o : outlets_) {
+    fem::OwnedVec v_loc = dofs_.create_local();
+    {
+      fem::WriteArray v(v_loc);
+      for (const Tri& t : dmesh_.faces()[o.face_index].triangles) {
+        double area;
+        Vec3 n;
+        bc::triangle_area_normal(x_[t[0]], x_[t[1]], x_[t[2]], area, n);
+        for (Index l : t)
+          for (int c = 0; c < 3; ++c)
+            if (!((dirichlet_[l] >> c) & 1))
+              v[B_ * l + c] += area / 3.0 * n[c];
+      }
+    }
+    TF_PETSC(VecZeroEntries(o.v));
+    dofs_.add_local_to_global(v_loc, o.v);
+  }
+}
+
+void FluidProblem::move_mesh(const std::vector<Vec3>& x, const std::vector<Vec3>& w) {
+  x_ = x;
+  w_ = w;
+  const auto& tets = dmesh_.tets();
+  for (size_t e : elements_) {
+    const Tet& t = tets[e];
+    geometry_[e] = fem::tet_geometry({x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]});
+  }
+  compute_outlet_vectors();
+}
+
 void FluidProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
   t_n_ = t_n;
   dt_ = dt;
@@ -98,11 +118,11 @@ void FluidProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
   dofs_.global_to_local(Udot_n, Udotn_loc_);
   fem::ReadArray un(Un_loc_);
   const auto& tets = dmesh_.tets();
-  for (size_t e = 0; e < tets.size(); ++e) {
-    Vec3 mean{};
+  for (size_t e : elements_) {
+    Vec3 mean{}; // the convective velocity u_n - w
     for (Index l : tets[e])
       for (int c = 0; c < 3; ++c)
-        mean[c] += 0.25 * un[block * l + c];
+        mean[c] += 0.25 * (un[B_ * l + c] - w_[l][c]);
     stab_[e] = stabilization(geometry_[e], mean, fluid_, dt);
   }
   const double t_af = t_n + scheme_.alpha_f * dt;
@@ -114,7 +134,7 @@ void FluidProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
 
 template <typename Velocity>
 std::vector<double> FluidProblem::outlet_fluxes(Velocity&& velocity) const {
-  const auto& x = dmesh_.points();
+  const auto& x = x_;
   std::vector<double> q(outlets_.size(), 0.0);
   for (size_t i = 0; i < outlets_.size(); ++i)
     for (const Tri& t : dmesh_.faces()[outlets_[i].face_index].triangles) {
@@ -133,9 +153,7 @@ void FluidProblem::commit_step(Vec U_next) {
   std::vector<double> q_next;
   {
     fem::ReadArray u(U_loc_);
-    q_next = outlet_fluxes([&](Index l) {
-      return Vec3{u[block * l], u[block * l + 1], u[block * l + 2]};
-    });
+    q_next = outlet_fluxes([&](Index l) { return Vec3{u[B_ * l], u[B_ * l + 1], u[B_ * l + 2]}; });
   }
   for (size_t i = 0; i < outlets_.size(); ++i) {
     OutletData& o = outlets_[i];
@@ -170,11 +188,11 @@ void FluidProblem::apply_dirichlet(Vec U) const {
   fem::WriteArray u(U);
   for (Index l : wall_nodes_)
     for (int c = 0; c < 3; ++c)
-      u[block * l + c] = 0.0;
+      u[B_ * l + c] = 0.0;
   for (const InflowNode& n : inflow_nodes_) {
     const Vec3 g = conditions_.inflows[n.inflow].velocity(n.k, t);
     for (int c = 0; c < 3; ++c)
-      u[block * n.local + c] = g[c];
+      u[B_ * n.local + c] = g[c];
   }
 }
 
@@ -184,12 +202,12 @@ void FluidProblem::stage(Vec U) {
   const auto [am, af, gamma] = scheme_;
   for (Index l = 0; l < dmesh_.num_local(); ++l) {
     for (int c = 0; c < 3; ++c) {
-      const PetscInt i = block * l + c;
+      const PetscInt i = B_ * l + c;
       const double udot_next = (u[i] - un[i]) / (gamma * dt_) - (1.0 - gamma) / gamma * udn[i];
       u_af_[l][c] = un[i] + af * (u[i] - un[i]);
       udot_am_[l][c] = udn[i] + am * (udot_next - udn[i]);
     }
-    p_[l] = u[block * l + 3];
+    p_[l] = u[B_ * l + P_];
   }
 }
 
@@ -198,6 +216,7 @@ void FluidProblem::gather(const Tet& t, FluidElementState& s) const {
     s.u[a] = u_af_[t[a]];
     s.udot[a] = udot_am_[t[a]];
     s.p[a] = p_[t[a]];
+    s.w[a] = w_[t[a]];
   }
 }
 
@@ -212,26 +231,34 @@ double FluidProblem::outlet_pressure(const OutletData& o) const {
 }
 
 void FluidProblem::residual(Vec U, Vec R) {
+  TF_PETSC(VecZeroEntries(R_loc_));
+  add_residual(U, R_loc_);
+  TF_PETSC(VecZeroEntries(R));
+  dofs_.add_local_to_global(R_loc_, R);
+  set_dirichlet_residual(U, R);
+}
+
+void FluidProblem::add_residual(Vec U, Vec R_loc) {
   stage(U);
   update_outlet_fluxes();
-  TF_PETSC(VecZeroEntries(R_loc_));
   {
-    fem::WriteArray r(R_loc_);
+    fem::WriteArray r(R_loc);
     const auto& tets = dmesh_.tets();
+    const std::array<int, 4> slot = layout_.slots();
     FluidElementState s;
     ElementVector Re;
-    for (size_t e = 0; e < tets.size(); ++e) {
+    for (size_t e : elements_) {
       const Tet& t = tets[e];
       gather(t, s);
       navier_stokes_residual(geometry_[e], s, stab_[e], fluid_, Re);
       for (int a = 0; a < 4; ++a)
-        for (int c = 0; c < block; ++c)
-          r[block * t[a] + c] += Re[block * a + c];
+        for (int c = 0; c < 4; ++c)
+          r[B_ * t[a] + slot[c]] += Re[4 * a + c];
     }
 
     // Outlets: -<w, h> = +int N_a P n_i - beta rho int N_a (u.n)_- u_i, the backflow term by
     // the edge-midpoint rule (exact for the quadratic integrand where u.n keeps its sign).
-    const auto& x = dmesh_.points();
+    const auto& x = x_;
     for (const OutletData& o : outlets_) {
       const double P = outlet_pressure(o);
       const double bf = o.spec.backflow_beta * fluid_.density;
@@ -241,7 +268,7 @@ void FluidProblem::residual(Vec U, Vec R) {
         bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
         for (int a = 0; a < 3; ++a)
           for (int c = 0; c < 3; ++c)
-            r[block * t[a] + c] += area / 3.0 * P * n[c];
+            r[B_ * t[a] + c] += area / 3.0 * P * n[c];
         if (bf == 0.0)
           continue;
         for (int q = 0; q < 3; ++q) { // midpoint of edge (q, q+1)
@@ -252,45 +279,62 @@ void FluidProblem::residual(Vec U, Vec R) {
             continue;
           for (int a : {a0, a1})
             for (int c = 0; c < 3; ++c)
-              r[block * t[a] + c] -= bf * area / 3.0 * 0.5 * un * uq[c];
+              r[B_ * t[a] + c] -= bf * area / 3.0 * 0.5 * un * uq[c];
         }
       }
     }
   }
-  TF_PETSC(VecZeroEntries(R));
-  dofs_.add_local_to_global(R_loc_, R);
+}
 
+void FluidProblem::set_dirichlet_residual(Vec U, Vec R) const {
   // Dirichlet rows: R = U - g(t_{n+1}).
   const double t = t_n_ + dt_;
   fem::WriteArray r(R);
   fem::ReadArray u(U);
   for (Index l : wall_nodes_)
     for (int c = 0; c < 3; ++c)
-      r[block * l + c] = u[block * l + c];
+      r[B_ * l + c] = u[B_ * l + c];
   for (const InflowNode& nd : inflow_nodes_) {
     const Vec3 g = conditions_.inflows[nd.inflow].velocity(nd.k, t);
     for (int c = 0; c < 3; ++c)
-      r[block * nd.local + c] = u[block * nd.local + c] - g[c];
+      r[B_ * nd.local + c] = u[B_ * nd.local + c] - g[c];
   }
 }
 
 void FluidProblem::jacobian(Vec U, Mat J) {
+  add_jacobian(U, J);
+  TF_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  TF_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  // Dirichlet rows become identity rows (their residual is U - g); the pattern stays, so
+  // the next assembly finds every entry where the inserter recorded it.
+  TF_PETSC(MatSetOption(J, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  TF_PETSC(MatZeroRows(J, static_cast<PetscInt>(dirichlet_rows_.size()), dirichlet_rows_.data(),
+                       1.0, nullptr, nullptr));
+}
+
+void FluidProblem::add_jacobian(Vec U, Mat J) {
   stage(U);
   const double c_u = scheme_.c_u(), c_a = scheme_.c_a(dt_);
   const auto& tets = dmesh_.tets();
   FluidElementState s;
   ElementMatrix K;
+  std::vector<double> Kx(B_ == 4 ? 0 : 16 * B_ * B_); // the element matrix in B_ slots
   inserter_.begin(J);
-  for (size_t e = 0; e < tets.size(); ++e) {
+  for (size_t e : elements_) {
     gather(tets[e], s);
     navier_stokes_jacobian(geometry_[e], s, stab_[e], fluid_, c_u, c_a, K);
-    inserter_.add(e, &K[0][0]);
+    if (B_ == 4) {
+      inserter_.add(e, &K[0][0]);
+    } else {
+      expand_element_matrix(&K[0][0], layout_, Kx.data());
+      inserter_.add(e, Kx.data());
+    }
   }
   inserter_.end();
 
   // Backflow term: d/du_dk of -beta rho int N_a (u.n)_- u_i = -beta rho c_u int N_a N_d
   // (n_k u_i + (u.n) delta_ik) where u.n < 0.
-  const auto& x = dmesh_.points();
+  const auto& x = x_;
   for (const OutletData& o : outlets_) {
     const double bf = o.spec.backflow_beta * fluid_.density;
     if (bf == 0.0)
@@ -324,13 +368,6 @@ void FluidProblem::jacobian(Vec U, Mat J) {
       TF_PETSC(MatSetValues(J, 9, dofs.data(), 9, dofs.data(), &Kb[0][0], ADD_VALUES));
     }
   }
-  TF_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
-  TF_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
-  // Dirichlet rows become identity rows (their residual is U - g); the pattern stays, so
-  // the next assembly finds every entry where the inserter recorded it.
-  TF_PETSC(MatSetOption(J, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
-  TF_PETSC(MatZeroRows(J, static_cast<PetscInt>(dirichlet_rows_.size()), dirichlet_rows_.data(),
-                       1.0, nullptr, nullptr));
 }
 
 void FluidProblem::add_coupled_outlets(Vec x, Vec y) const {
@@ -349,7 +386,7 @@ void FluidProblem::update_acceleration(Vec U_next, Vec U_n, Vec Udot) const {
   fem::WriteArray ud(Udot);
   for (Index l = 0; l < dmesh_.num_owned(); ++l)
     for (int c = 0; c < 3; ++c) {
-      const PetscInt i = block * l + c;
+      const PetscInt i = B_ * l + c;
       ud[i] = (u[i] - un[i]) / (gamma * dt_) - (1.0 - gamma) / gamma * ud[i];
     }
 }
@@ -357,7 +394,7 @@ void FluidProblem::update_acceleration(Vec U_next, Vec U_n, Vec Udot) const {
 std::vector<FaceMeasure> FluidProblem::measure_faces(Vec U) const {
   dofs_.global_to_local(U, U_loc_);
   fem::ReadArray u(U_loc_);
-  const auto& x = dmesh_.points();
+  const auto& x = x_;
   constexpr int per_face = 4; // flow, pressure, area, reversed
   std::vector<double> sums;
   for (const fem::LocalFace& f : dmesh_.faces()) {
@@ -368,10 +405,10 @@ std::vector<FaceMeasure> FluidProblem::measure_faces(Vec U) const {
       bc::triangle_area_normal(x[t[0]], x[t[1]], x[t[2]], area, n);
       area_sum += area;
       for (Index l : t) {
-        const double un = u[block * l] * n[0] + u[block * l + 1] * n[1] + u[block * l + 2] * n[2];
+        const double un = u[B_ * l] * n[0] + u[B_ * l + 1] * n[1] + u[B_ * l + 2] * n[2];
         flow += area / 3.0 * un;
         reversed += area / 3.0 * std::min(un, 0.0);
-        pressure += area / 3.0 * u[block * l + 3];
+        pressure += area / 3.0 * u[B_ * l + P_];
       }
     }
     sums.insert(sums.end(), {flow, pressure, area_sum, reversed});

@@ -8,12 +8,18 @@
 // low-rank term  r c_u v v^T  (v_ai = int N_a n_i), applied matrix-free by
 // add_coupled_outlets so the assembled matrix keeps its sparsity. The RCR's distal pressure
 // advances in commit_step once the step has converged.
+//
+// The same class assembles the fluid part of the FSI system (fsi_problem.hpp): a
+// FieldLayout places its unknowns in a larger node block and restricts it to the fluid
+// region, move_mesh puts it on the current (ALE) configuration with its mesh velocity, and
+// add_residual / add_jacobian add into the caller's vector and matrix.
 #include <cstdint>
 #include <vector>
 
 #include "bc/fluid_conditions.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/element_inserter.hpp"
+#include "physics/field_layout.hpp"
 #include "physics/generalized_alpha.hpp"
 #include "physics/navier_stokes_kernel.hpp"
 
@@ -30,10 +36,13 @@ struct FaceMeasure {
 
 class FluidProblem {
 public:
-  static constexpr int block = 4; // u_x, u_y, u_z, p per node
+  static constexpr int block = 4; // u_x, u_y, u_z, p per node on its own
+  static constexpr const char* options_prefix = "fluid_";
+  /// The solver defaults (fluid_solver.cpp), entered where the user set nothing.
+  static std::vector<std::pair<const char*, const char*>> default_solver_options();
 
   FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh, FluidProperties fluid,
-               bc::FluidConditions conditions, GeneralizedAlpha scheme);
+               bc::FluidConditions conditions, GeneralizedAlpha scheme, FieldLayout layout = {});
 
   const fem::DofMap& dofs() const { return dofs_; }
   const FluidProperties& fluid() const { return fluid_; }
@@ -47,6 +56,19 @@ public:
   void residual(Vec U, Vec R);
   /// The assembled part of dR/dU (everything but the outlet resistances).
   void jacobian(Vec U, Mat J);
+
+  // The pieces of residual and jacobian, for a caller that adds other physics.
+  /// Adds the element and outlet terms at U (global) into the local vector R_loc.
+  void add_residual(Vec U, Vec R_loc);
+  /// Sets the Dirichlet rows of the global R to U - g(t_{n+1}).
+  void set_dirichlet_residual(Vec U, Vec R) const;
+  /// Zeroes J and adds the element and backflow terms (no assembly, no Dirichlet rows).
+  void add_jacobian(Vec U, Mat J);
+  /// Global rows of the owned prescribed velocities.
+  const std::vector<PetscInt>& dirichlet_rows() const { return dirichlet_rows_; }
+  /// Puts the fluid on the configuration x (per local node, [m]) moving with velocity w
+  /// [m/s]: element geometry, outlet normals and the convective velocity u - w follow.
+  void move_mesh(const std::vector<Vec3>& x, const std::vector<Vec3>& w);
   /// y += sum over resistance outlets of R_out c_u v (v . x).
   void add_coupled_outlets(Vec x, Vec y) const;
   /// Udot_{n+1} from U_{n+1} (generalized-alpha update); overwrites Udot.
@@ -82,13 +104,16 @@ private:
   void stage(Vec U); ///< local U -> u_af, udot_am, p per local node
   /// The staged nodal values of one tet's nodes.
   void gather(const Tet& t, FluidElementState& s) const;
-  void update_outlet_fluxes(); ///< Q of every outlet from u_af (collective)
+  void update_outlet_fluxes();   ///< Q of every outlet from u_af (collective)
+  void compute_outlet_vectors(); ///< v_ai = int N_a n_i on the current configuration
   double outlet_pressure(const OutletData& o) const;
   /// Outward flux through every outlet of the nodal velocities velocity(l) -> Vec3 at local
   /// nodes l (collective).
   template <typename Velocity> std::vector<double> outlet_fluxes(Velocity&& velocity) const;
 
   const fem::DistributedMesh& dmesh_;
+  FieldLayout layout_;
+  int B_, P_; ///< block size and pressure slot
   fem::DofMap dofs_;
   fem::ElementInserter inserter_;
   FluidProperties fluid_;
@@ -96,7 +121,9 @@ private:
   GeneralizedAlpha scheme_;
   double t_n_ = 0.0, dt_ = 1.0;
 
-  std::vector<fem::TetGeometry> geometry_; ///< per local tet
+  std::vector<size_t> elements_;           ///< the local tets of the fluid
+  std::vector<Vec3> x_, w_;                ///< configuration and mesh velocity per local node
+  std::vector<fem::TetGeometry> geometry_; ///< per local tet, on x_
   std::vector<Stabilization> stab_;        ///< per local tet, from U_n
   std::vector<std::uint8_t> dirichlet_;    ///< per local node: bit c set if u_c is prescribed
   std::vector<PetscInt> dirichlet_rows_;   ///< global rows of the owned prescribed dofs

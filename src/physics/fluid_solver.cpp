@@ -1,5 +1,7 @@
 #include "physics/fluid_solver.hpp"
 
+#include "physics/fsi_problem.hpp"
+
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -21,7 +23,9 @@ template <typename F> PetscErrorCode guarded(std::string& error, F&& f) {
     return PETSC_ERR_LIB;
   }
 }
-std::vector<std::pair<const char*, const char*>> default_fluid_options() {
+} // namespace
+
+std::vector<std::pair<const char*, const char*>> FluidProblem::default_solver_options() {
   return {{"-fluid_pc_type", "fieldsplit"},
           {"-fluid_pc_fieldsplit_0_fields", "0,1,2"},
           {"-fluid_pc_fieldsplit_1_fields", "3"},
@@ -40,15 +44,16 @@ std::vector<std::pair<const char*, const char*>> default_fluid_options() {
           {"-fluid_snes_lag_preconditioner", "3"},
           {"-fluid_snes_lag_preconditioner_persists", "true"}};
 }
-} // namespace
 
-FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton) : problem_(problem) {
+template <typename Problem>
+NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& newton)
+    : problem_(problem) {
   const fem::DofMap& dofs = problem.dofs();
   U_ = dofs.create_global();
   Udot_ = dofs.create_global();
   U_prev_ = dofs.create_global();
   R_ = dofs.create_global();
-  P_ = dofs.create_matrix("fluid_");
+  P_ = dofs.create_matrix(Problem::options_prefix);
 
   has_coupled_outlets_ = problem.has_coupled_outlets();
   MPI_Comm comm = dofs.mesh().comm();
@@ -59,7 +64,7 @@ FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton) : 
   }
 
   TF_PETSC(SNESCreate(comm, snes_.out()));
-  TF_PETSC(SNESSetOptionsPrefix(snes_, "fluid_"));
+  TF_PETSC(SNESSetOptionsPrefix(snes_, Problem::options_prefix));
   TF_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
   TF_PETSC(
       SNESSetJacobian(snes_, has_coupled_outlets_ ? J_.get() : P_.get(), P_, form_jacobian, this));
@@ -87,7 +92,7 @@ FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton) : 
   // blocks rebuilt every iteration, 2.9 s/step with these defaults, same Newton iterations;
   // ILU(0) on the coupled system stalled (> 1000 GMRES iterations). Entered only where the
   // user set nothing, so any PETSc option wins.
-  for (const auto& [name, value] : default_fluid_options())
+  for (const auto& [name, value] : Problem::default_solver_options())
     if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name, &set) == 0 && !set)
       TF_PETSC(PetscOptionsSetValue(nullptr, name, value));
   TF_PETSC(SNESSetFromOptions(snes_));
@@ -95,26 +100,28 @@ FluidSolver::FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton) : 
                                      static_cast<PetscInt>(residual_history_.size()), PETSC_TRUE));
 }
 
-PetscErrorCode FluidSolver::shell_mult(Mat J, Vec x, Vec y) {
+template <typename Problem> PetscErrorCode NewtonStepper<Problem>::shell_mult(Mat J, Vec x, Vec y) {
   void* ctx;
   MatShellGetContext(J, &ctx);
-  auto* self = static_cast<FluidSolver*>(ctx);
+  auto* self = static_cast<NewtonStepper*>(ctx);
   return guarded(self->callback_error_, [&] {
     TF_PETSC(MatMult(self->P_, x, y));
     self->problem_.add_coupled_outlets(x, y);
   });
 }
 
-PetscErrorCode FluidSolver::form_residual(SNES, Vec U, Vec R, void* ctx) {
-  auto* self = static_cast<FluidSolver*>(ctx);
+template <typename Problem>
+PetscErrorCode NewtonStepper<Problem>::form_residual(SNES, Vec U, Vec R, void* ctx) {
+  auto* self = static_cast<NewtonStepper*>(ctx);
   const double t0 = MPI_Wtime();
   const PetscErrorCode err = guarded(self->callback_error_, [&] { self->problem_.residual(U, R); });
   self->assembly_seconds_ += MPI_Wtime() - t0;
   return err;
 }
 
-PetscErrorCode FluidSolver::form_jacobian(SNES, Vec U, Mat, Mat P, void* ctx) {
-  auto* self = static_cast<FluidSolver*>(ctx);
+template <typename Problem>
+PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES, Vec U, Mat, Mat P, void* ctx) {
+  auto* self = static_cast<NewtonStepper*>(ctx);
   const double t0 = MPI_Wtime();
   const PetscErrorCode err = guarded(self->callback_error_, [&] {
     self->problem_.jacobian(U, P);
@@ -127,7 +134,7 @@ PetscErrorCode FluidSolver::form_jacobian(SNES, Vec U, Mat, Mat P, void* ctx) {
   return err;
 }
 
-StepReport FluidSolver::step(double t, double dt) {
+template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, double dt) {
   const double start = MPI_Wtime();
   assembly_seconds_ = 0.0;
   callback_error_.clear();
@@ -184,5 +191,8 @@ StepReport FluidSolver::step(double t, double dt) {
   problem_.commit_step(U_);
   return report;
 }
+
+template class NewtonStepper<FluidProblem>;
+template class NewtonStepper<FsiProblem>;
 
 } // namespace tearflow::physics

@@ -1,8 +1,8 @@
 #pragma once
-// Advances a FluidProblem in time: one Newton solve (PETSc SNES, options prefix `fluid_`)
-// per generalized-alpha step. The Jacobian operator is a shell, assembled matrix plus the
-// outlets' low-rank term; the preconditioner is built from the assembled matrix. Every
-// solver choice (KSP, PC, line search, lagging) can be changed through PETSc options.
+// Advances a FluidProblem (or the FSI problem) in time: one Newton solve (PETSc SNES,
+// options prefix `fluid_` or `fsi_`) per generalized-alpha step. The Jacobian operator is a shell,
+// assembled matrix plus the outlets' low-rank term; the preconditioner is built from the assembled
+// matrix. Every solver choice (KSP, PC, line search, lagging) can be changed through PETSc options.
 #include <array>
 #include <string>
 
@@ -20,9 +20,12 @@ struct StepReport {
   double solve_seconds = 0.0;    ///< everything else in the Newton loop (mostly KSP)
 };
 
-class FluidSolver {
+/// Problem: FluidProblem (options prefix `fluid_`) or FsiProblem (`fsi_`); it provides
+/// dofs, begin_step, apply_dirichlet, residual, jacobian, the coupled outlets,
+/// update_acceleration, commit_step, options_prefix and default_solver_options.
+template <typename Problem> class NewtonStepper {
 public:
-  FluidSolver(FluidProblem& problem, const io::NewtonSpec& newton);
+  NewtonStepper(Problem& problem, const io::NewtonSpec& newton);
 
   /// Starts from rest (U = 0, Udot = 0) unless the caller overwrites state().
   Vec solution() const { return U_; } ///< (u, p) at the current time
@@ -37,7 +40,7 @@ private:
   static PetscErrorCode form_jacobian(SNES, Vec U, Mat J, Mat P, void* ctx);
   static PetscErrorCode shell_mult(Mat J, Vec x, Vec y);
 
-  FluidProblem& problem_;
+  Problem& problem_;
   fem::OwnedVec U_, Udot_, U_prev_, R_;
   fem::OwnedMat P_, J_;
   fem::OwnedSNES snes_;
@@ -46,5 +49,9 @@ private:
   std::string callback_error_;
   std::array<PetscReal, 64> residual_history_{}; ///< ||R|| per Newton iteration, from SNES
 };
+
+using FluidSolver = NewtonStepper<FluidProblem>;
+class FsiProblem;
+using FsiSolver = NewtonStepper<FsiProblem>;
 
 } // namespace tearflow::physics

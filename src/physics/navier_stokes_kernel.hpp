@@ -13,6 +13,14 @@
 //   tau_M = (4/dt^2 + u.G u + C_I nu^2 G:G)^(-1/2),   nu_C = 1 / (tau_M g.g)
 // (Bazilevs et al. 2007, eqs. 63-65; C_I = 36 for linear tets).
 //
+// On a moving mesh (ALE, fsi_problem.hpp) the same form holds on the configuration at
+// t_{n+alpha_f} with du/dt the time derivative at fixed mesh node and the convective velocity
+// c = u - w, w the mesh velocity (Bazilevs, Calo, Hughes & Zhang 2008, eq. 12): every
+// u . grad below becomes c . grad. w does not depend on the element's unknowns here (the
+// mesh follows the wall through a separate solve), so the Jacobian keeps its form with c.
+// A uniform u then gives zero residual whatever the mesh does: the geometric conservation
+// the uniform-flow test checks.
+//
 // Generalized-alpha (Jansen, Whiting, Hulbert 2000): velocity at t_{n+alpha_f}, acceleration
 // at t_{n+alpha_m}, pressure at t_{n+1}; the unknowns are (u, p) at t_{n+1}, so
 // d u_{n+af} / d u_{n+1} = alpha_f = c_u and d udot_{n+am} / d u_{n+1} = alpha_m/(gamma dt) = c_a.
@@ -41,6 +49,7 @@ struct FluidElementState {
   std::array<Vec3, 4> u;    ///< velocity at t_{n+alpha_f} [m/s]
   std::array<Vec3, 4> udot; ///< acceleration at t_{n+alpha_m} [m/s^2]
   std::array<double, 4> p;  ///< pressure at t_{n+1} [Pa]
+  std::array<Vec3, 4> w{};  ///< mesh velocity [m/s] (zero on a fixed mesh)
 };
 
 struct Stabilization {
@@ -75,8 +84,9 @@ struct FluidElementFields {
   Mat3 L{};                                 ///< velocity gradient L_ij = du_i/dx_j
   double div = 0.0;                         ///< div u
   Vec3 grad_p{};                            ///< grad p
+  std::array<Vec3, 4> c{};                  ///< convective velocity u - w at the nodes
   std::array<Vec3, 4> r{};                  ///< nodal values of the strong residual r_M
-  std::array<std::array<double, 4>, 4> W{}; ///< W_ac = int (u . grad N_a) N_c
+  std::array<std::array<double, 4>, 4> W{}; ///< W_ac = int (c . grad N_a) N_c
 };
 
 inline FluidElementFields element_fields(const fem::TetGeometry& geo, const FluidElementState& s,
@@ -90,11 +100,13 @@ inline FluidElementFields element_fields(const fem::TetGeometry& geo, const Flui
     }
   f.div = f.L[0][0] + f.L[1][1] + f.L[2][2];
   for (int c = 0; c < 4; ++c)
+    f.c[c] = s.u[c] - s.w[c];
+  for (int c = 0; c < 4; ++c)
     for (int i = 0; i < 3; ++i)
-      f.r[c][i] = fluid.density * (s.udot[c][i] + dot(f.L[i], s.u[c])) + f.grad_p[i];
+      f.r[c][i] = fluid.density * (s.udot[c][i] + dot(f.L[i], f.c[c])) + f.grad_p[i];
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b) {
-      const double s_ab = dot(s.u[b], geo.grad[a]);
+      const double s_ab = dot(f.c[b], geo.grad[a]);
       for (int c = 0; c < 4; ++c)
         f.W[a][c] += s_ab * fem::mass(geo.volume, b, c);
     }
@@ -136,9 +148,9 @@ inline void navier_stokes_jacobian(const fem::TetGeometry& geo, const FluidEleme
                                    double c_u, double c_a, ElementMatrix& K) {
   const FluidElementFields f = element_fields(geo, s, fluid);
   const double V = geo.volume, rho = fluid.density, mu = fluid.viscosity, tau = stab.tau_m;
-  Vec3 u_sum{};
+  Vec3 c_sum{};
   for (int c = 0; c < 4; ++c)
-    u_sum = u_sum + s.u[c];
+    c_sum = c_sum + f.c[c];
   for (int a = 0; a < 4; ++a) {
     const Vec3& gNa = geo.grad[a];
     double W_row = 0.0;
@@ -147,10 +159,10 @@ inline void navier_stokes_jacobian(const fem::TetGeometry& geo, const FluidEleme
     for (int d = 0; d < 4; ++d) {
       const Vec3& gNd = geo.grad[d];
       const double M_ad = fem::mass(V, a, d);
-      double A_ad = 0.0, B_ad = 0.0; // sum_c M_ac (u_c . grad N_d), sum_c W_ac (u_c . grad N_d)
+      double A_ad = 0.0, B_ad = 0.0; // sum_c M_ac (c_c . grad N_d), sum_c W_ac (c_c . grad N_d)
       Vec3 Mr{};                     // sum_c M_dc r_c
       for (int c = 0; c < 4; ++c) {
-        const double ug = dot(s.u[c], gNd);
+        const double ug = dot(f.c[c], gNd);
         A_ad += fem::mass(V, a, c) * ug;
         B_ad += f.W[a][c] * ug;
         Mr = Mr + fem::mass(V, d, c) * f.r[c];
@@ -178,7 +190,7 @@ inline void navier_stokes_jacobian(const fem::TetGeometry& geo, const FluidEleme
           LtgN += gNa[i] * f.L[i][k];
         K[4 * a + 3][4 * d + k] =
             0.25 * V * c_u * gNd[k] +
-            tau * 0.25 * V * (c_a * gNa[k] + c_u * (gNa[k] * dot(gNd, u_sum) + LtgN));
+            tau * 0.25 * V * (c_a * gNa[k] + c_u * (gNa[k] * dot(gNd, c_sum) + LtgN));
       }
       K[4 * a + 3][4 * d + 3] = tau * V / rho * grad_grad;
     }

@@ -32,15 +32,16 @@ double triangle_area(const std::vector<Vec3>& x, const Tri& t) {
 
 SolidProblem::SolidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh,
                            SolidMaterial material, bc::SolidConditions conditions,
-                           SolidScheme scheme)
-    : dmesh_(dmesh), dofs_(dmesh, block), material_(material), conditions_(std::move(conditions)),
-      scheme_(scheme) {
+                           SolidScheme scheme, FieldLayout layout)
+    : dmesh_(dmesh), layout_(layout), B_(layout.block), P_(layout.pressure),
+      elements_(layout.elements(dmesh)), dofs_(dmesh, layout.block), material_(material),
+      conditions_(std::move(conditions)), scheme_(scheme) {
   const auto n_local = static_cast<size_t>(dmesh.num_local());
   const auto& x = dmesh.points();
   geometry_.resize(dmesh.tets().size());
   rows_.resize(geometry_.size());
-  double sums[2] = {0.0, static_cast<double>(geometry_.size())}; // volume, tets
-  for (size_t e = 0; e < geometry_.size(); ++e) {
+  double sums[2] = {0.0, static_cast<double>(elements_.size())}; // volume, tets
+  for (size_t e : elements_) {
     const Tet& t = dmesh.tets()[e];
     geometry_[e] = fem::tet_geometry({x[t[0]], x[t[1]], x[t[2]], x[t[3]]});
     sums[0] += geometry_[e].volume;
@@ -48,7 +49,7 @@ SolidProblem::SolidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
   MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, dmesh.comm());
   // s = mu / h makes the pressure row a force: s (J - 1) V ~ kappa (J - 1) h^2 ~ sigma h^2.
   row_scale_ = material_.mu / std::cbrt(6.0 * std::sqrt(2.0) * sums[0] / sums[1]);
-  for (size_t e = 0; e < geometry_.size(); ++e)
+  for (size_t e : elements_)
     rows_[e] = {pressure_stabilization(material_, geometry_[e].volume), row_scale_};
 
   // Prescribed components on every local node, from the replicated faces, so that all ranks
@@ -94,6 +95,13 @@ PetscInt SolidProblem::row_index(Index l, int c) const {
   return (c < 3 && (dirichlet_[l] >> c) & 1) ? -1 : dofs_.global_dof(l, c);
 }
 
+std::vector<PetscInt> SolidProblem::dirichlet_rows() const {
+  std::vector<PetscInt> rows;
+  for (const FixedNode& f : fixed_nodes_)
+    rows.push_back(dofs_.global_dof(f.local, f.comp));
+  return rows;
+}
+
 double SolidProblem::load_time() const {
   return t_n_ + (scheme_.quasi_static ? 1.0 : scheme_.alpha_f) * dt_;
 }
@@ -112,7 +120,7 @@ void SolidProblem::begin_step(double t_n, double dt, Vec U_n, Vec D_n, Vec A_n) 
   dirichlet_target_.resize(fixed_nodes_.size());
   for (size_t k = 0; k < fixed_nodes_.size(); ++k) {
     const FixedNode& f = fixed_nodes_[k];
-    const PetscInt i = block * f.local + f.comp;
+    const PetscInt i = B_ * f.local + f.comp;
     const double g = conditions_.fixed[f.spec].at(t_n + dt)[f.comp];
     const double u_bar = quasi_static ? un[i]
                                       : un[i] + dt * vn[i] + dt * dt * (0.5 - beta) * an[i] -
@@ -124,7 +132,7 @@ void SolidProblem::begin_step(double t_n, double dt, Vec U_n, Vec D_n, Vec A_n) 
 void SolidProblem::apply_dirichlet(Vec U) const {
   fem::WriteArray u(U);
   for (size_t k = 0; k < fixed_nodes_.size(); ++k)
-    u[block * fixed_nodes_[k].local + fixed_nodes_[k].comp] = dirichlet_target_[k];
+    u[B_ * fixed_nodes_[k].local + fixed_nodes_[k].comp] = dirichlet_target_[k];
 }
 
 void SolidProblem::stage(Vec U) {
@@ -133,7 +141,7 @@ void SolidProblem::stage(Vec U) {
   const auto [am, af, gamma, beta, quasi_static] = scheme_;
   for (Index l = 0; l < dmesh_.num_local(); ++l) {
     for (int c = 0; c < 3; ++c) {
-      const PetscInt i = block * l + c;
+      const PetscInt i = B_ * l + c;
       if (quasi_static) {
         u_af_[l][c] = un[i] + dt_ * v[i];
         v_af_[l][c] = v[i];
@@ -146,7 +154,7 @@ void SolidProblem::stage(Vec U) {
       v_af_[l][c] = vn[i] + af * (v[i] - vn[i]);
       a_am_[l][c] = an[i] + am * (a1 - an[i]);
     }
-    p_[l] = v[block * l + 3];
+    p_[l] = v[B_ * l + P_];
   }
 }
 
@@ -164,25 +172,33 @@ std::array<Vec3, 3> SolidProblem::deformed(const Tri& t) const {
 }
 
 void SolidProblem::residual(Vec U, Vec R) {
-  stage(U);
   TF_PETSC(VecZeroEntries(R_loc_));
+  add_residual(U, R_loc_);
+  TF_PETSC(VecZeroEntries(R));
+  dofs_.add_local_to_global(R_loc_, R);
+  set_dirichlet_residual(U, R);
+}
+
+void SolidProblem::add_residual(Vec U, Vec R_loc) {
+  stage(U);
   {
-    fem::WriteArray r(R_loc_);
+    fem::WriteArray r(R_loc);
     const auto& tets = dmesh_.tets();
+    const std::array<int, 4> slot = layout_.slots();
     SolidElementState s;
     ElementVector Re;
-    for (size_t e = 0; e < tets.size(); ++e) {
+    for (size_t e : elements_) {
       const Tet& t = tets[e];
       gather(t, s);
       solid_residual(geometry_[e], s, material_, rows_[e], Re);
       for (int a = 0; a < 4; ++a)
-        for (int c = 0; c < block; ++c)
-          r[block * t[a] + c] += Re[block * a + c];
+        for (int c = 0; c < 4; ++c)
+          r[B_ * t[a] + slot[c]] += Re[4 * a + c];
     }
     auto add_triangle = [&](const Tri& t, const bc::TriVector& Rt) {
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c)
-          r[block * t[a] + c] += Rt[3 * a + c];
+          r[B_ * t[a] + c] += Rt[3 * a + c];
     };
     const double t_load = load_time();
     for (size_t i = 0; i < load_faces_.size(); ++i) {
@@ -206,33 +222,44 @@ void SolidProblem::residual(Vec U, Vec R) {
       }
     }
   }
-  TF_PETSC(VecZeroEntries(R));
-  dofs_.add_local_to_global(R_loc_, R);
+}
 
+void SolidProblem::set_dirichlet_residual(Vec U, Vec R) const {
   // Dirichlet rows: R = v - v_target.
   fem::WriteArray r(R);
   fem::ReadArray v(U);
   for (size_t k = 0; k < fixed_nodes_.size(); ++k) {
-    const PetscInt i = block * fixed_nodes_[k].local + fixed_nodes_[k].comp;
+    const PetscInt i = B_ * fixed_nodes_[k].local + fixed_nodes_[k].comp;
     r[i] = v[i] - dirichlet_target_[k];
   }
 }
 
 void SolidProblem::jacobian(Vec U, Mat J) {
-  stage(U);
   TF_PETSC(MatZeroEntries(J));
+  add_jacobian(U, J);
+  for (const FixedNode& f : fixed_nodes_) {
+    const PetscInt d = dofs_.global_dof(f.local, f.comp);
+    TF_PETSC(MatSetValue(J, d, d, 1.0, ADD_VALUES));
+  }
+  TF_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  TF_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+}
+
+void SolidProblem::add_jacobian(Vec U, Mat J) {
+  stage(U);
   const double c_u = scheme_.c_u(dt_), c_v = scheme_.c_v(), c_a = scheme_.c_a(dt_);
   const auto& tets = dmesh_.tets();
   SolidElementState s;
   ElementMatrix K;
   std::array<PetscInt, 16> rows, cols;
-  for (size_t e = 0; e < tets.size(); ++e) {
+  const std::array<int, 4> slot = layout_.slots();
+  for (size_t e : elements_) {
     const Tet& t = tets[e];
     gather(t, s);
     for (int a = 0; a < 4; ++a)
-      for (int c = 0; c < block; ++c) {
-        rows[block * a + c] = row_index(t[a], c);
-        cols[block * a + c] = dofs_.global_dof(t[a], c);
+      for (int c = 0; c < 4; ++c) {
+        rows[4 * a + c] = row_index(t[a], slot[c]);
+        cols[4 * a + c] = dofs_.global_dof(t[a], slot[c]);
       }
     solid_jacobian(geometry_[e], s, material_, rows_[e], c_u, c_a, K);
     TF_PETSC(MatSetValues(J, 16, rows.data(), 16, cols.data(), &K[0][0], ADD_VALUES));
@@ -267,13 +294,6 @@ void SolidProblem::jacobian(Vec U, Mat J) {
       insert_triangle(t, Kt);
     }
   }
-
-  for (const FixedNode& f : fixed_nodes_) {
-    const PetscInt d = dofs_.global_dof(f.local, f.comp);
-    TF_PETSC(MatSetValue(J, d, d, 1.0, ADD_VALUES));
-  }
-  TF_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
-  TF_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
 }
 
 void SolidProblem::update_state(Vec U_next, Vec D, Vec A) const {
@@ -282,7 +302,7 @@ void SolidProblem::update_state(Vec U_next, Vec D, Vec A) const {
   fem::WriteArray u(D), a(A);
   for (Index l = 0; l < dmesh_.num_owned(); ++l)
     for (int c = 0; c < 3; ++c) {
-      const PetscInt i = block * l + c;
+      const PetscInt i = B_ * l + c;
       if (quasi_static) {
         u[i] += dt_ * v[i];
         a[i] = 0.0;
@@ -307,7 +327,7 @@ std::vector<FaceDisplacement> SolidProblem::measure_faces(Vec D) const {
       s[3] += area;
       for (Index l : t)
         for (int c = 0; c < 3; ++c)
-          s[c] += area / 3.0 * u[block * l + c];
+          s[c] += area / 3.0 * u[B_ * l + c];
     }
     sums.insert(sums.end(), s, s + 4);
   }
@@ -326,7 +346,7 @@ SolidEnergy SolidProblem::stage_energy(Vec U) {
   SolidEnergy E;
   const auto& tets = dmesh_.tets();
   SolidElementState s;
-  for (size_t e = 0; e < tets.size(); ++e) {
+  for (size_t e : elements_) {
     const Tet& t = tets[e];
     gather(t, s);
     E.stored += solid_stored_energy(geometry_[e], s, material_, rows_[e]);
@@ -358,20 +378,20 @@ void SolidProblem::nodal_stress(Vec U, Vec D, Vec out) const {
     fem::WriteArray acc(S_loc); // per node: V sigma_vM, V J, V
     const auto& tets = dmesh_.tets();
     std::array<Vec3, 4> ue;
-    for (size_t e = 0; e < tets.size(); ++e) {
+    for (size_t e : elements_) {
       const Tet& t = tets[e];
       double p = 0.0;
       for (int a = 0; a < 4; ++a) {
-        ue[a] = {u[block * t[a]], u[block * t[a] + 1], u[block * t[a] + 2]};
-        p += 0.25 * v[block * t[a] + 3];
+        ue[a] = {u[B_ * t[a]], u[B_ * t[a] + 1], u[B_ * t[a] + 2]};
+        p += 0.25 * v[B_ * t[a] + P_];
       }
       const Mat3 F = deformation_gradient(geometry_[e], ue);
       const double V = geometry_[e].volume;
       const double vm = von_mises(cauchy_stress(material_, F, p));
       for (Index l : t) {
-        acc[block * l] += V * vm;
-        acc[block * l + 1] += V * det(F);
-        acc[block * l + 2] += V;
+        acc[B_ * l] += V * vm;
+        acc[B_ * l + 1] += V * det(F);
+        acc[B_ * l + 2] += V;
       }
     }
   }
@@ -379,10 +399,12 @@ void SolidProblem::nodal_stress(Vec U, Vec D, Vec out) const {
   dofs_.add_local_to_global(S_loc, out);
   fem::WriteArray o(out);
   for (Index l = 0; l < dmesh_.num_owned(); ++l) {
-    const double w = o[block * l + 2];
-    o[block * l] /= w;
-    o[block * l + 1] /= w;
-    o[block * l + 2] = 0.0;
+    const double w = o[B_ * l + 2];
+    if (w == 0.0) // a node of no solid tet (the fluid of an FSI mesh)
+      continue;
+    o[B_ * l] /= w;
+    o[B_ * l + 1] /= w;
+    o[B_ * l + 2] = 0.0;
   }
 }
 

@@ -19,6 +19,7 @@
 
 #include "bc/solid_conditions.hpp"
 #include "fem/dof_map.hpp"
+#include "physics/field_layout.hpp"
 #include "physics/generalized_alpha.hpp"
 #include "physics/solid_kernel.hpp"
 
@@ -58,10 +59,12 @@ struct SolidEnergy {
 
 class SolidProblem {
 public:
-  static constexpr int block = 4; // v_x, v_y, v_z, p per node (the fluid's layout)
+  static constexpr int block = 4; // v_x, v_y, v_z, p per node on its own (the fluid's layout)
 
+  /// `layout` places the unknowns in a larger block and restricts the solid to a region
+  /// (the wall of an FSI mesh, fsi_problem.hpp).
   SolidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh, SolidMaterial material,
-               bc::SolidConditions conditions, SolidScheme scheme);
+               bc::SolidConditions conditions, SolidScheme scheme, FieldLayout layout = {});
 
   const fem::DofMap& dofs() const { return dofs_; }
   const SolidMaterial& material() const { return material_; }
@@ -73,6 +76,19 @@ public:
   void apply_dirichlet(Vec U) const; ///< the Dirichlet velocities into U (Newton guess)
   void residual(Vec U, Vec R);
   void jacobian(Vec U, Mat J);
+
+  // The pieces of residual and jacobian, for a caller that adds other physics.
+  /// Adds the element and surface terms at U (global) into the local vector R_loc.
+  void add_residual(Vec U, Vec R_loc);
+  /// Sets the Dirichlet rows of the global R to v - v_target.
+  void set_dirichlet_residual(Vec U, Vec R) const;
+  /// Adds the element and surface terms into J (MatSetValues, no assembly), skipping the
+  /// Dirichlet rows.
+  void add_jacobian(Vec U, Mat J);
+  /// Global rows of the owned prescribed velocity components.
+  std::vector<PetscInt> dirichlet_rows() const;
+  /// Per local node: bit c set if velocity component c is prescribed.
+  const std::vector<std::uint8_t>& dirichlet_flags() const { return dirichlet_; }
   /// D and A at t_{n+1} from U_{n+1} (Newmark); D, A hold t_n's values on entry.
   void update_state(Vec U_next, Vec D, Vec A) const;
 
@@ -92,6 +108,9 @@ private:
   PetscInt row_index(Index l, int c) const;
 
   const fem::DistributedMesh& dmesh_;
+  FieldLayout layout_;
+  int B_, P_;                    ///< block size and pressure slot
+  std::vector<size_t> elements_; ///< the local tets of the solid
   fem::DofMap dofs_;
   SolidMaterial material_;
   bc::SolidConditions conditions_;

@@ -16,5 +16,7 @@ VerificationResult verify_uniaxial(const VerifyOptions& options);
 VerificationResult verify_lame(const VerifyOptions& options);
 VerificationResult verify_robin(const VerifyOptions& options);
 VerificationResult verify_energy(const VerifyOptions& options);
+// Fluid-structure interaction (fsi_inflation.cpp).
+VerificationResult verify_inflation(const VerifyOptions& options);
 
 } // namespace tearflow::verify

@@ -61,6 +61,9 @@ const std::map<std::string, VerificationCase>& verification_cases() {
       {"energy",
        {"undamped free axial oscillation of a bar, rho_inf = 1: total energy over 10 periods",
         verify_energy}},
+      {"inflation",
+       {"compliant tube (FSI) under a slowly rising pressure: radius against thick-wall Lame",
+        verify_inflation}},
   };
   return cases;
 }

@@ -1,0 +1,89 @@
+#pragma once
+// The monolithic ALE fluid-structure problem of one time step: R(U_{n+1}) = 0 with, per node,
+//   U = (v_x, v_y, v_z, p_fluid, p_wall),
+// one velocity shared by fluid and wall and the two pressures apart (field_layout.hpp).
+//
+// Coupling (Bazilevs, Calo, Hughes & Zhang, Comput. Mech. 2008; the reference study's
+// svFSI): the fluid and the wall meshes share the interface nodes, so
+//   - kinematic continuity u_fluid = du_wall/dt holds by construction (one velocity), and
+//   - traction balance sigma_f n = sigma_s n holds weakly: the momentum rows of an interface
+//     node sum the fluid's and the wall's integrals, and the interface tractions cancel.
+// Both physics advance with the same generalized-alpha scheme; the wall's displacement
+// follows from its velocity by Newmark (solid_problem.hpp), the fluid's acceleration by the
+// same gamma relation, so one acceleration vector serves both.
+//
+// ALE: the fluid is assembled on the configuration x_{n+af} = X + d_n + alpha_f (d_{n+1} -
+// d_n) with mesh velocity w = (d_{n+1} - d_n) / dt, where d_{n+1} is the wall's Newmark
+// displacement on wall nodes and the pseudo-solid's solution (mesh_motion.hpp) inside the
+// fluid. The mesh is moved at every residual evaluation, so the converged state satisfies
+// the full nonlinear system; the Jacobian leaves out the shape derivatives (the fluid's
+// dependence on the mesh position), a quasi-Newton method as in svFSI, which converges in a
+// few more iterations when the wall moves little per step.
+#include <vector>
+
+#include "physics/fluid_problem.hpp"
+#include "physics/mesh_motion.hpp"
+#include "physics/solid_problem.hpp"
+
+namespace tearflow::physics {
+
+struct FsiRegions {
+  int fluid = 0; ///< region index of the fluid tets
+  int wall = 1;  ///< region index of the wall tets
+};
+
+class FsiProblem {
+public:
+  static constexpr int block = 5;
+  static constexpr int fluid_pressure = 3, wall_pressure = 4;
+  static constexpr const char* options_prefix = "fsi_";
+
+  FsiProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh, FluidProperties fluid,
+             bc::FluidConditions fluid_conditions, SolidMaterial wall,
+             bc::SolidConditions wall_conditions, GeneralizedAlpha scheme, FsiRegions regions,
+             bool moving_mesh = true);
+
+  const fem::DofMap& dofs() const { return dofs_; }
+  FluidProblem& fluid() { return fluid_; }
+  const FluidProblem& fluid() const { return fluid_; }
+  SolidProblem& wall() { return wall_; }
+  /// Displacement of every node at the current time (wall: Newmark; fluid: mesh motion).
+  Vec displacement() const { return D_; }
+
+  // The interface the Newton stepper (fluid_solver.hpp) drives.
+  void begin_step(double t_n, double dt, Vec U_n, Vec Udot_n);
+  void apply_dirichlet(Vec U) const;
+  void residual(Vec U, Vec R);
+  void jacobian(Vec U, Mat J);
+  bool has_coupled_outlets() const { return fluid_.has_coupled_outlets(); }
+  void add_coupled_outlets(Vec x, Vec y) const { fluid_.add_coupled_outlets(x, y); }
+  /// Acceleration and displacement at t_{n+1} from the converged U_{n+1}.
+  void update_acceleration(Vec U_next, Vec U_n, Vec Udot);
+  void commit_step(Vec U_next) { fluid_.commit_step(U_next); }
+  static std::vector<std::pair<const char*, const char*>> default_solver_options();
+
+  /// Volume of the fluid on the configuration X + D (collective) [m^3].
+  double fluid_volume() const;
+  int mesh_iterations() const { return mesh_.last_iterations(); }
+
+private:
+  /// d_{n+1} on every local node from U (wall Newmark, mesh motion) and the fluid on
+  /// x_{n+af} with its mesh velocity.
+  void move_fluid_mesh(Vec U);
+
+  const fem::DistributedMesh& dmesh_;
+  fem::DofMap dofs_;
+  FluidProblem fluid_;
+  SolidProblem wall_;
+  MeshMotion mesh_;
+  SolidScheme wall_scheme_;
+  FsiRegions regions_;
+  bool moving_mesh_;
+  double dt_ = 1.0;
+  std::vector<PetscInt> identity_rows_; ///< owned Dirichlet rows and unused pressure slots
+  std::vector<PetscInt> unused_rows_;   ///< owned pressure slots of the other physics' nodes
+  fem::OwnedVec D_, U_loc_, R_loc_, Un_loc_, An_loc_, Dn_loc_;
+  std::vector<Vec3> d_next_; ///< d_{n+1} per local node, from the last move_fluid_mesh
+};
+
+} // namespace tearflow::physics
