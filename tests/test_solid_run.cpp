@@ -131,8 +131,8 @@ TEST(SolidRun, BadInputIsAClearError) {
         Bad{"bad_both_moduli.yaml", "bad_both_moduli.yaml:10: solid.shear_modulus: give "
                                     "youngs_modulus and poisson_ratio, or shear_modulus"},
         Bad{"bad_robin_key.yaml", "key 'components' does not apply here (type: robin)"},
-        Bad{"bad_fsi.yaml", "bad_fsi.yaml:5: solid: a case with both `solid` and "
-                            "`boundary_conditions` couples flow and wall (FSI)"}}) {
+        Bad{"bad_fsi.yaml", "a fluid-structure case needs volume regions 'fluid' and 'wall'; "
+                            "the mesh pipe"}}) {
     const Result r =
         run("run " + (data / b.file).string() + " -q -o " + fresh_dir("solid-bad").string());
     EXPECT_EQ(r.code, 2) << b.file << ": " << r.output;

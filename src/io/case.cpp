@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 // --- mesh --------------------------------------------------------------------------------
 
 mesh::PipeSpec read_pipe(const YamlValue& v) {
-  v.check_keys({"radius", "length", "element_size"});
+  v.check_keys({"radius", "length", "element_size", "wall_thickness"});
   mesh::PipeSpec pipe;
   if (auto x = v.get("radius"))
     pipe.radius = x->positive();
@@ -33,11 +33,13 @@ mesh::PipeSpec read_pipe(const YamlValue& v) {
     pipe.length = x->positive();
   if (auto x = v.get("element_size"))
     pipe.element_size = x->positive();
+  if (auto x = v.get("wall_thickness"))
+    pipe.wall_thickness = x->non_negative();
   return pipe;
 }
 
 MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
-  v.check_keys({"file", "units", "pipe", "region"});
+  v.check_keys({"file", "wall_file", "units", "pipe", "region"});
   const auto file = v.get("file");
   const auto pipe = v.get("pipe");
   if (file && pipe)
@@ -58,20 +60,26 @@ MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
 
   if (auto region = v.get("region"))
     spec.region = region->text();
-  spec.file = resolve_path(case_dir, file->text());
-  std::error_code ec;
-  if (!fs::exists(spec.file, ec))
-    file->fail(fmt::format("mesh not found: {}", spec.file.string()));
-  if (fs::is_directory(spec.file, ec)) {
-    const fs::path volume = spec.file / "mesh-complete.mesh.vtu";
-    if (!fs::exists(volume, ec))
-      file->fail(fmt::format("{} is not a SimVascular mesh-complete directory: {} is missing",
-                             spec.file.string(), volume.string()));
-  } else if (spec.file.extension() != ".msh") {
-    file->fail(fmt::format("expected a Gmsh .msh file or a SimVascular mesh-complete "
-                           "directory, got {}",
-                           spec.file.string()));
-  }
+  auto checked_path = [&](const YamlValue& node) {
+    const fs::path path = resolve_path(case_dir, node.text());
+    std::error_code ec;
+    if (!fs::exists(path, ec))
+      node.fail(fmt::format("mesh not found: {}", path.string()));
+    if (fs::is_directory(path, ec)) {
+      const fs::path volume = path / "mesh-complete.mesh.vtu";
+      if (!fs::exists(volume, ec))
+        node.fail(fmt::format("{} is not a SimVascular mesh-complete directory: {} is missing",
+                              path.string(), volume.string()));
+    } else if (path.extension() != ".msh") {
+      node.fail(fmt::format("expected a Gmsh .msh file or a SimVascular mesh-complete "
+                            "directory, got {}",
+                            path.string()));
+    }
+    return path;
+  };
+  spec.file = checked_path(*file);
+  if (auto wall = v.get("wall_file"))
+    spec.wall_file = checked_path(*wall);
   return spec;
 }
 
@@ -404,12 +412,8 @@ Case load_case(const fs::path& file) {
   const YamlValue time_node = root.require("time", "a mapping with at least time.step");
   RunLength length;
   c.time = read_time(time_node, length);
-  if (auto solid = root.get("solid")) {
-    if (root.has("boundary_conditions")) // FSI: issue 10; never run the fluid alone silently
-      solid->fail("a case with both `solid` and `boundary_conditions` couples flow and wall "
-                  "(FSI), which this version does not run yet; give one of the two");
+  if (auto solid = root.get("solid")) // with boundary_conditions: fluid-structure interaction
     c.solid = read_solid(*solid, case_dir);
-  }
   if (c.solid && !root.has("boundary_conditions")) { // solid-only: the solid's own conditions
     if (length.node)
       length.node->fail("time.cycles and time.periodicity apply to flow cases; give time.steps "
@@ -455,7 +459,7 @@ void check_case_against_mesh(const Case& c, const mesh::Mesh& m) {
   for (const std::string& name : face_names)
     if (!used.contains(name))
       unused.push_back(name);
-  if (!unused.empty())
+  if (!unused.empty() && !is_fsi(c)) // in FSI they are the interface and the wall's faces
     spdlog::warn("{}: mesh faces without a boundary condition are no-slip walls: {}", source,
                  join_names(unused, "and"));
 }

@@ -17,7 +17,9 @@
 namespace tearflow::io {
 
 struct MeshSpec {
-  std::filesystem::path file;         ///< .msh or SimVascular directory (absolute), or empty
+  std::filesystem::path file; ///< .msh or SimVascular directory (absolute), or empty
+  /// The wall's mesh when it is a separate file (FSI; interface nodes coincide with file's)
+  std::filesystem::path wall_file;
   double length_scale = 1.0;          ///< metres per mesh unit (`units: mm` gives 1e-3)
   std::optional<mesh::PipeSpec> pipe; ///< built-in pipe instead of a file
   /// The volume region the flow is solved in (a multi-region mesh's `fluid` if empty).
@@ -99,5 +101,11 @@ Case load_case(const std::filesystem::path& file);
 /// Checks the case against its mesh: every BC face exists (InputError listing the known
 /// faces otherwise), and no face has two conditions.
 void check_case_against_mesh(const Case& c, const mesh::Mesh& m);
+
+/// A case with both flow conditions and a solid: fluid-structure interaction on a mesh with
+/// a `fluid` and a `wall` region.
+inline bool is_fsi(const Case& c) {
+  return c.solid && !c.boundary_conditions.empty();
+}
 
 } // namespace tearflow::io

@@ -62,6 +62,9 @@ public:
   void commit_step(Vec U_next) { fluid_.commit_step(U_next); }
   static std::vector<std::pair<const char*, const char*>> default_solver_options();
 
+  /// Sets the displacement from a full vector in the input mesh's node order (block 5 per
+  /// node, as a checkpoint holds it) and puts the fluid on that configuration.
+  void set_displacement(const std::vector<double>& all);
   /// Volume of the fluid on the configuration X + D (collective) [m^3].
   double fluid_volume() const;
   int mesh_iterations() const { return mesh_.last_iterations(); }
@@ -70,6 +73,8 @@ private:
   /// d_{n+1} on every local node from U (wall Newmark, mesh motion) and the fluid on
   /// x_{n+af} with its mesh velocity.
   void move_fluid_mesh(Vec U);
+  /// The fluid on X + D (local block-5 vector), at rest.
+  void place_fluid(Vec D_loc);
 
   const fem::DistributedMesh& dmesh_;
   fem::DofMap dofs_;

@@ -245,24 +245,30 @@ void SolidProblem::jacobian(Vec U, Mat J) {
   TF_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
 }
 
-void SolidProblem::add_jacobian(Vec U, Mat J) {
+void SolidProblem::add_jacobian(Vec U, Mat J, bool skip_dirichlet_rows) {
   stage(U);
   const double c_u = scheme_.c_u(dt_), c_v = scheme_.c_v(), c_a = scheme_.c_a(dt_);
   const auto& tets = dmesh_.tets();
   SolidElementState s;
   ElementMatrix K;
-  std::array<PetscInt, 16> rows, cols;
-  const std::array<int, 4> slot = layout_.slots();
+  // Whole node blocks (4 B_ unknowns per element, zeros in the other physics' slot), so that
+  // the assembled pattern stays node-blocked for the fluid's direct insertion (FSI).
+  const int n = 4 * B_;
+  std::vector<PetscInt> rows(n), cols(n);
+  std::vector<double> Kx(B_ == 4 ? 0 : static_cast<size_t>(n) * n);
   for (size_t e : elements_) {
     const Tet& t = tets[e];
     gather(t, s);
     for (int a = 0; a < 4; ++a)
-      for (int c = 0; c < 4; ++c) {
-        rows[4 * a + c] = row_index(t[a], slot[c]);
-        cols[4 * a + c] = dofs_.global_dof(t[a], slot[c]);
+      for (int c = 0; c < B_; ++c) {
+        rows[B_ * a + c] = skip_dirichlet_rows ? row_index(t[a], c) : dofs_.global_dof(t[a], c);
+        cols[B_ * a + c] = dofs_.global_dof(t[a], c);
       }
     solid_jacobian(geometry_[e], s, material_, rows_[e], c_u, c_a, K);
-    TF_PETSC(MatSetValues(J, 16, rows.data(), 16, cols.data(), &K[0][0], ADD_VALUES));
+    if (B_ != 4)
+      expand_element_matrix(&K[0][0], layout_, Kx.data());
+    TF_PETSC(MatSetValues(J, n, rows.data(), n, cols.data(), B_ == 4 ? &K[0][0] : Kx.data(),
+                          ADD_VALUES));
   }
 
   std::array<PetscInt, 9> trows, tcols;

@@ -83,8 +83,9 @@ public:
   /// Sets the Dirichlet rows of the global R to v - v_target.
   void set_dirichlet_residual(Vec U, Vec R) const;
   /// Adds the element and surface terms into J (MatSetValues, no assembly), skipping the
-  /// Dirichlet rows.
-  void add_jacobian(Vec U, Mat J);
+  /// element terms of the Dirichlet rows unless the caller replaces those rows itself (FSI:
+  /// then the pattern keeps whole node blocks).
+  void add_jacobian(Vec U, Mat J, bool skip_dirichlet_rows = true);
   /// Global rows of the owned prescribed velocity components.
   std::vector<PetscInt> dirichlet_rows() const;
   /// Per local node: bit c set if velocity component c is prescribed.

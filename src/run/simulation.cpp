@@ -1,5 +1,6 @@
 #include "run/simulation.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -9,9 +10,11 @@
 #include "core/units.hpp"
 #include "io/checkpoint.hpp"
 #include "io/vtu_series.hpp"
+#include "mesh/merge.hpp"
 #include "mesh/orient_faces.hpp"
 #include "mesh/readers.hpp"
 #include "mesh/region.hpp"
+#include "physics/fsi_problem.hpp"
 #include "run/startup.hpp"
 
 namespace tearflow::run {
@@ -20,6 +23,20 @@ mesh::Mesh load_mesh(const io::Case& c) {
   mesh::Mesh m = c.mesh.generator ? c.mesh.generator(c)
                  : c.mesh.pipe    ? mesh::make_pipe(*c.mesh.pipe)
                                   : mesh::read_mesh(c.mesh.file, c.mesh.length_scale);
+  if (!c.mesh.wall_file.empty())
+    m = mesh::merge_fluid_and_wall(m, mesh::read_mesh(c.mesh.wall_file, c.mesh.length_scale));
+  if (io::is_fsi(c)) { // both regions; the fluid's and the wall's faces
+    for (const char* region : {"fluid", "wall"})
+      if (std::find(m.regions.begin(), m.regions.end(), region) == m.regions.end())
+        input_error("{}: a fluid-structure case needs volume regions 'fluid' and 'wall'; the "
+                    "mesh{} has {}",
+                    c.file.string(), m.source.empty() ? "" : " " + m.source,
+                    io::join_names(m.regions, "and"));
+    mesh::orient_faces_outward(m);
+    io::check_case_against_mesh(c, m);
+    io::check_solid_against_mesh(*c.solid, m, c.file.string());
+    return m;
+  }
   // The flow lives in one region: the named one, or `fluid` of a multi-region (FSI) mesh.
   if (!c.mesh.region.empty() || m.regions.size() > 1) {
     const std::string region = c.mesh.region.empty() ? "fluid" : c.mesh.region;
@@ -37,6 +54,13 @@ mesh::Mesh load_mesh(const io::Case& c) {
 
 bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m) {
   bc::FluidConditions out;
+  // A rigid-wall flow's faces without a condition are no-slip walls (docs/case-file.md). In
+  // FSI the interface moves with the wall and the wall's own faces are the solid's.
+  if (!io::is_fsi(c))
+    for (const mesh::Face& f : m.faces)
+      if (std::none_of(c.boundary_conditions.begin(), c.boundary_conditions.end(),
+                       [&](const io::BoundaryCondition& b) { return b.face == f.name; }))
+        out.walls.push_back(f.name);
   for (const io::BoundaryCondition& b : c.boundary_conditions) {
     switch (b.type) {
     case io::BcType::NoSlip:
@@ -78,35 +102,66 @@ struct Simulation::Output {
 
 Simulation::Simulation(io::Case c, MPI_Comm comm) : case_(std::move(c)), mesh_(load_mesh(case_)) {
   dmesh_ = std::make_unique<fem::DistributedMesh>(mesh_, comm);
-  problem_ = std::make_unique<physics::FluidProblem>(
-      mesh_, *dmesh_, physics::FluidProperties{case_.fluid.density, case_.fluid.viscosity},
-      make_conditions(case_, mesh_),
-      physics::GeneralizedAlpha::from_spectral_radius(case_.time.spectral_radius));
-  solver_ = std::make_unique<physics::FluidSolver>(*problem_, case_.newton);
+  const physics::FluidProperties fluid{case_.fluid.density, case_.fluid.viscosity};
+  const auto scheme = physics::GeneralizedAlpha::from_spectral_radius(case_.time.spectral_radius);
+  if (io::is_fsi(case_)) {
+    auto region = [&](const char* name) {
+      return static_cast<int>(std::find(mesh_.regions.begin(), mesh_.regions.end(), name) -
+                              mesh_.regions.begin());
+    };
+    fsi_ = std::make_unique<physics::FsiProblem>(
+        mesh_, *dmesh_, fluid, make_conditions(case_, mesh_), case_.solid->material,
+        case_.solid->conditions, scheme, physics::FsiRegions{region("fluid"), region("wall")});
+    fsi_solver_ = std::make_unique<physics::FsiSolver>(*fsi_, case_.newton);
+  } else {
+    problem_ = std::make_unique<physics::FluidProblem>(mesh_, *dmesh_, fluid,
+                                                       make_conditions(case_, mesh_), scheme);
+    solver_ = std::make_unique<physics::FluidSolver>(*problem_, case_.newton);
+  }
   if (case_.time.start_from_0d)
     start_from_0d();
 }
 
+physics::FluidProblem& Simulation::fluid() const {
+  return fsi_ ? fsi_->fluid() : *problem_;
+}
+
+int Simulation::block() const {
+  return fsi_ ? physics::FsiProblem::block : physics::FluidProblem::block;
+}
+
+Vec Simulation::solution() const {
+  return fsi_ ? fsi_solver_->solution() : solver_->solution();
+}
+
+Vec Simulation::acceleration() const {
+  return fsi_ ? fsi_solver_->acceleration() : solver_->acceleration();
+}
+
 void Simulation::start_from_0d() {
-  const std::optional<OutletModel> model = outlet_model(problem_->conditions());
+  physics::FluidProblem& problem = fluid();
+  const std::optional<OutletModel> model = outlet_model(problem.conditions());
   if (!model)
     return;
   const bc::PeriodicState periodic = model->network.periodic(model->inflow);
-  std::vector<physics::FluidProblem::OutletState> states = problem_->outlet_states();
+  std::vector<physics::FluidProblem::OutletState> states = problem.outlet_states();
   std::string told;
   for (size_t i = 0; i < model->outlet.size(); ++i) {
-    const io::BoundaryCondition& b = bc_of(problem_->conditions().outlets[model->outlet[i]].face);
+    const io::BoundaryCondition& b = bc_of(problem.conditions().outlets[model->outlet[i]].face);
     if (b.type != io::BcType::Windkessel || b.initial_distal_pressure)
       continue; // a given initial distal pressure wins
     states[model->outlet[i]].distal_pressure = periodic.distal_pressure(i, 0.0);
     told += fmt::format(" {} {:.1f} mmHg", b.face, periodic.distal_pressure(i, 0.0) / units::mmHg);
   }
-  problem_->set_outlet_states(states);
-  // The pressure field starts at the 0D inlet pressure: a good first Newton guess.
+  problem.set_outlet_states(states);
+  // The pressure field starts at the 0D inlet pressure: a good first Newton guess. (With a
+  // wall, the wall would have to be pre-stressed to match; FSI starts at zero pressure.)
   const double p0 = periodic.inlet_pressure(0.0);
-  fem::WriteArray u(solver_->solution());
-  for (Index l = 0; l < dmesh_->num_owned(); ++l)
-    u[physics::FluidProblem::block * l + 3] = p0;
+  if (!fsi_) {
+    fem::WriteArray u(solution());
+    for (Index l = 0; l < dmesh_->num_owned(); ++l)
+      u[block() * l + 3] = p0;
+  }
   if (fem::mpi_rank(dmesh_->comm()) == 0)
     spdlog::info("start from the periodic 0D state at t = 0: pressure {:.1f} mmHg; distal "
                  "pressures{}",
@@ -122,16 +177,16 @@ const io::BoundaryCondition& Simulation::bc_of(const std::string& face) const {
 
 std::vector<std::string> Simulation::outlet_faces() const {
   std::vector<std::string> out;
-  for (const bc::TractionOutlet& o : problem_->conditions().outlets)
+  for (const bc::TractionOutlet& o : fluid().conditions().outlets)
     out.push_back(o.face);
   return out;
 }
 
 StepSample Simulation::sample() const {
   StepSample s{step_, time(), {}};
-  const std::vector<physics::FluidProblem::OutletState> states = problem_->outlet_states();
-  const auto& outlets = problem_->conditions().outlets;
-  for (const physics::FaceMeasure& m : problem_->measure_faces(solver_->solution())) {
+  const std::vector<physics::FluidProblem::OutletState> states = fluid().outlet_states();
+  const auto& outlets = fluid().conditions().outlets;
+  for (const physics::FaceMeasure& m : fluid().measure_faces(solution())) {
     FaceSample f{m, std::nullopt};
     for (size_t i = 0; i < outlets.size(); ++i)
       if (outlets[i].face == m.face && outlets[i].rcr)
@@ -144,7 +199,8 @@ StepSample Simulation::sample() const {
 Simulation::~Simulation() = default;
 
 physics::StepReport Simulation::advance() {
-  physics::StepReport r = solver_->step(time(), case_.time.step);
+  physics::StepReport r =
+      fsi_ ? fsi_solver_->step(time(), case_.time.step) : solver_->step(time(), case_.time.step);
   ++step_;
   return r;
 }
@@ -155,7 +211,7 @@ std::vector<double> Simulation::gather(Vec v) const {
   TF_PETSC(VecScatterCreateToAll(v, &to_all, &all));
   TF_PETSC(VecScatterBegin(to_all, v, all, INSERT_VALUES, SCATTER_FORWARD));
   TF_PETSC(VecScatterEnd(to_all, v, all, INSERT_VALUES, SCATTER_FORWARD));
-  const int bs = physics::FluidProblem::block;
+  const int bs = block();
   std::vector<double> out(static_cast<size_t>(mesh_.num_nodes()) * bs);
   {
     fem::ReadArray a(all);
@@ -171,8 +227,8 @@ std::vector<double> Simulation::gather(Vec v) const {
 
 void Simulation::set_state(int step, const std::vector<double>& U,
                            const std::vector<double>& Udot) {
-  const int bs = physics::FluidProblem::block;
-  fem::WriteArray u(solver_->solution()), ud(solver_->acceleration());
+  const int bs = block();
+  fem::WriteArray u(solution()), ud(acceleration());
   for (Index l = 0; l < dmesh_->num_owned(); ++l) {
     const Index n = dmesh_->original_index(l);
     for (int c = 0; c < bs; ++c) {
@@ -184,17 +240,28 @@ void Simulation::set_state(int step, const std::vector<double>& U,
 }
 
 void Simulation::write_frame() {
-  const std::vector<double> U = gather(solver_->solution());
+  const std::vector<double> U = gather(solution());
+  const std::vector<double> D = fsi_ ? gather(fsi_->displacement()) : std::vector<double>{};
   if (fem::mpi_rank(dmesh_->comm()) != 0)
     return;
+  const int bs = block();
   io::PointField velocity{"velocity", 3, {}}, pressure{"pressure", 1, {}};
+  io::PointField displacement{"displacement", 3, {}}, wall_pressure{"wall_pressure", 1, {}};
   velocity.values.reserve(3 * mesh_.points.size());
   for (Index n = 0; n < mesh_.num_nodes(); ++n) {
     for (int c = 0; c < 3; ++c)
-      velocity.values.push_back(U[4 * n + c]);
-    pressure.values.push_back(U[4 * n + 3]);
+      velocity.values.push_back(U[bs * n + c]);
+    pressure.values.push_back(U[bs * n + 3]);
+    if (!fsi_)
+      continue;
+    for (int c = 0; c < 3; ++c)
+      displacement.values.push_back(D[bs * n + c]);
+    wall_pressure.values.push_back(U[bs * n + physics::FsiProblem::wall_pressure]);
   }
-  output_->series->write(step_, time(), {velocity, pressure});
+  if (fsi_) // ParaView: "Warp By Vector" with displacement shows the deformed geometry
+    output_->series->write(step_, time(), {velocity, pressure, displacement, wall_pressure});
+  else
+    output_->series->write(step_, time(), {velocity, pressure});
 }
 
 RunSummary Simulation::run(const RunOptions& options) {
@@ -212,10 +279,9 @@ RunSummary Simulation::run(const RunOptions& options) {
 
   if (options.restart) {
     const io::Checkpoint c = io::read_checkpoint(checkpoint_file);
-    if (c.num_nodes != mesh_.num_nodes() || c.block != physics::FluidProblem::block)
+    if (c.num_nodes != mesh_.num_nodes() || c.block != block())
       input_error("checkpoint '{}' has {} nodes x {} unknowns, the case's mesh {} x {}",
-                  checkpoint_file.string(), c.num_nodes, c.block, mesh_.num_nodes(),
-                  physics::FluidProblem::block);
+                  checkpoint_file.string(), c.num_nodes, c.block, mesh_.num_nodes(), block());
     set_state(static_cast<int>(c.step), c.solution, c.derivative);
     set_outlet_checkpoint(c.extra, checkpoint_file);
     if (options.write_output) {
@@ -246,9 +312,9 @@ RunSummary Simulation::run(const RunOptions& options) {
     c.step = step_;
     c.time = time();
     c.num_nodes = mesh_.num_nodes();
-    c.block = physics::FluidProblem::block;
-    c.solution = gather(solver_->solution());
-    c.derivative = gather(solver_->acceleration());
+    c.block = block();
+    c.solution = gather(solution());
+    c.derivative = gather(acceleration());
     c.extra = outlet_checkpoint();
     if (root)
       io::write_checkpoint(checkpoint_file, c);
@@ -323,7 +389,7 @@ void Simulation::report_cycle(const analysis::CycleStats& c, bool periodic) cons
         fmt::format("  {}: {:.1f}/{:.1f} ({:.1f}) mmHg, {:.1f} %", f.face, f.systolic / units::mmHg,
                     f.diastolic / units::mmHg, f.mean / units::mmHg, *f.split_percent);
     const bc::TractionOutlet* o = nullptr;
-    for (const bc::TractionOutlet& t : problem_->conditions().outlets)
+    for (const bc::TractionOutlet& t : fluid().conditions().outlets)
       if (t.face == f.face)
         o = &t;
     if (o && f.reversed_volume > 1e-3 * std::abs(f.volume))
@@ -337,20 +403,29 @@ void Simulation::report_cycle(const analysis::CycleStats& c, bool periodic) cons
 
 std::vector<double> Simulation::outlet_checkpoint() const {
   std::vector<double> extra;
-  for (const physics::FluidProblem::OutletState& s : problem_->outlet_states())
+  for (const physics::FluidProblem::OutletState& s : fluid().outlet_states())
     extra.insert(extra.end(), {s.distal_pressure, s.flux});
+  if (fsi_) { // then the displacement of every node, as the solution
+    const std::vector<double> D = gather(fsi_->displacement());
+    extra.insert(extra.end(), D.begin(), D.end());
+  }
   return extra;
 }
 
 void Simulation::set_outlet_checkpoint(const std::vector<double>& extra,
                                        const std::filesystem::path& file) {
-  std::vector<physics::FluidProblem::OutletState> states = problem_->outlet_states();
-  if (extra.size() != 2 * states.size())
-    input_error("checkpoint '{}' holds the state of {} outlets, the case has {}", file.string(),
-                extra.size() / 2, states.size());
+  std::vector<physics::FluidProblem::OutletState> states = fluid().outlet_states();
+  const size_t displacement = fsi_ ? static_cast<size_t>(mesh_.num_nodes()) * block() : 0;
+  if (extra.size() != 2 * states.size() + displacement)
+    input_error("checkpoint '{}' holds {} values beside the solution; the case needs {} ({} "
+                "outlets{})",
+                file.string(), extra.size(), 2 * states.size() + displacement, states.size(),
+                fsi_ ? " and the displacement" : "");
   for (size_t i = 0; i < states.size(); ++i)
     states[i] = {extra[2 * i], extra[2 * i + 1]};
-  problem_->set_outlet_states(states);
+  fluid().set_outlet_states(states);
+  if (fsi_)
+    fsi_->set_displacement(std::vector<double>(extra.begin() + 2 * states.size(), extra.end()));
 }
 
 } // namespace tearflow::run

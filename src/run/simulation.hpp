@@ -43,10 +43,15 @@ public:
   const io::Case& config() const { return case_; }
   const mesh::Mesh& mesh() const { return mesh_; }
   const fem::DistributedMesh& distributed_mesh() const { return *dmesh_; }
-  physics::FluidProblem& problem() { return *problem_; }
-  physics::FluidSolver& solver() { return *solver_; }
+  physics::FluidProblem& problem() { return *problem_; } ///< rigid-wall runs
+  physics::FluidSolver& solver() { return *solver_; }    ///< rigid-wall runs
+  /// The flow part: the rigid-wall problem, or the fluid of the FSI problem.
+  physics::FluidProblem& fluid() const;
+  int block() const; ///< unknowns per node: 4, or 5 with a wall (fsi_problem.hpp)
+  Vec solution() const;
+  Vec acceleration() const;
 
-  /// The whole vector on every rank, in the input mesh's node order, block 4 per node.
+  /// The whole vector on every rank, in the input mesh's node order, block() per node.
   std::vector<double> gather(Vec v) const;
   /// Sets (U, Udot) from full vectors in the input mesh's node order; sets the step.
   void set_state(int step, const std::vector<double>& U, const std::vector<double>& Udot);
@@ -68,6 +73,8 @@ private:
   std::unique_ptr<fem::DistributedMesh> dmesh_;
   std::unique_ptr<physics::FluidProblem> problem_;
   std::unique_ptr<physics::FluidSolver> solver_;
+  std::unique_ptr<physics::FsiProblem> fsi_; ///< instead of problem_ with a wall
+  std::unique_ptr<physics::FsiSolver> fsi_solver_;
   int step_ = 0;
   struct Output;
   std::unique_ptr<Output> output_;

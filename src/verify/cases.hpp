@@ -16,7 +16,8 @@ VerificationResult verify_uniaxial(const VerifyOptions& options);
 VerificationResult verify_lame(const VerifyOptions& options);
 VerificationResult verify_robin(const VerifyOptions& options);
 VerificationResult verify_energy(const VerifyOptions& options);
-// Fluid-structure interaction (fsi_inflation.cpp).
+// Fluid-structure interaction (fsi_inflation.cpp, fsi_pulse.cpp).
 VerificationResult verify_inflation(const VerifyOptions& options);
+VerificationResult verify_pulse(const VerifyOptions& options);
 
 } // namespace tearflow::verify

@@ -70,10 +70,19 @@ VerificationResult verify_inflation(const VerifyOptions& options) {
   const int steps = static_cast<int>(std::round(t_end / dt));
   double hold_sum = 0.0, pressure_sum = 0.0;
   int hold_samples = 0, newton_max = 0;
+  // Volume balance: V_{n+1} - V_n against -dt (Q_n + Q_{n+1}) / 2, Q the caps' outflow.
+  double volume = tube.problem().fluid_volume(), outflow = 0.0;
+  double balance_error = 0.0, largest_change = 0.0;
   nlohmann::json history = nlohmann::json::array();
   for (int s = 0; s < steps; ++s) {
     const physics::StepReport r = tube.advance(dt);
     newton_max = std::max(newton_max, r.newton_iterations);
+    const double volume_next = tube.problem().fluid_volume(), outflow_next = tube.cap_outflow();
+    const double change = volume_next - volume, expected = -0.5 * dt * (outflow + outflow_next);
+    balance_error = std::max(balance_error, std::abs(change - expected));
+    largest_change = std::max(largest_change, std::abs(change));
+    volume = volume_next;
+    outflow = outflow_next;
     const double u = tube.mean_radial_displacement(L / 3.0, 2.0 * L / 3.0);
     const double p = tube.mean_interface_pressure(L / 3.0, 2.0 * L / 3.0);
     if (tube.time() > t_ramp + 1e-12) {
@@ -93,9 +102,14 @@ VerificationResult verify_inflation(const VerifyOptions& options) {
   VerificationResult res;
   res.name = "inflation";
   res.metrics.push_back(
+      {"volume_balance_error", balance_error / largest_change, 0.01,
+       "max over steps of |dV - dt (Q_in - Q_out)| / max |dV|: the fluid volume follows the "
+       "caps' net inflow (trapezoidal in time); 1 % (issue 10)"});
+  res.metrics.push_back(
       {"radial_displacement_relative_error", std::abs(u_mean - exact) / exact, 0.05,
        "|mean u_r(a) over the hold - thick-wall Lame (plane strain)| / Lame; 5 % (issue 10)"});
   res.details = {{"inner_radius_m", a},
+                 {"largest_volume_change_per_step_m3", largest_change},
                  {"wall_thickness_m", h},
                  {"pressure_Pa", P0},
                  {"u_r_fe_m", u_mean},

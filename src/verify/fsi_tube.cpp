@@ -27,6 +27,12 @@ FsiTube::FsiTube(FsiTubeSpec spec) : spec_(std::move(spec)), mesh_(mesh::make_pi
       spec_.moving_mesh);
   solver_ = std::make_unique<physics::FsiSolver>(*problem_, spec_.newton);
   on_interface_.assign(mesh_.points.size(), 0);
+  in_fluid_.assign(mesh_.points.size(), 0);
+  const int fluid = region_index(mesh_, "fluid");
+  for (size_t e = 0; e < mesh_.tets.size(); ++e)
+    if (mesh_.tet_region[e] == fluid)
+      for (Index v : mesh_.tets[e])
+        in_fluid_[v] = 1;
   for (const Tri& t : mesh_.face("interface").triangles)
     for (Index v : t)
       on_interface_[v] = 1;
@@ -38,11 +44,13 @@ physics::StepReport FsiTube::advance(double dt) {
   return r;
 }
 
-template <typename F> double FsiTube::interface_mean(double z0, double z1, F&& f) const {
+template <typename F>
+double FsiTube::node_mean(const std::vector<unsigned char>& flag, double z0, double z1,
+                          F&& f) const {
   double sums[2] = {0.0, 0.0};
   for (Index l = 0; l < dmesh_->num_owned(); ++l) {
     const Vec3& x = dmesh_->points()[l];
-    if (!on_interface_[dmesh_->original_index(l)] || x[2] < z0 || x[2] > z1)
+    if (!flag[dmesh_->original_index(l)] || x[2] < z0 || x[2] > z1)
       continue;
     sums[0] += f(l);
     sums[1] += 1.0;
@@ -54,7 +62,7 @@ template <typename F> double FsiTube::interface_mean(double z0, double z1, F&& f
 double FsiTube::mean_radial_displacement(double z0, double z1) const {
   fem::ReadArray d(problem_->displacement());
   constexpr int B = physics::FsiProblem::block;
-  return interface_mean(z0, z1, [&](Index l) {
+  return node_mean(on_interface_, z0, z1, [&](Index l) {
     const Vec3& x = dmesh_->points()[l];
     const double r = std::hypot(x[0], x[1]);
     return (d[B * l] * x[0] + d[B * l + 1] * x[1]) / r;
@@ -64,8 +72,23 @@ double FsiTube::mean_radial_displacement(double z0, double z1) const {
 double FsiTube::mean_interface_pressure(double z0, double z1) const {
   fem::ReadArray u(solver_->solution());
   constexpr int B = physics::FsiProblem::block;
-  return interface_mean(z0, z1,
-                        [&](Index l) { return u[B * l + physics::FsiProblem::fluid_pressure]; });
+  return node_mean(on_interface_, z0, z1,
+                   [&](Index l) { return u[B * l + physics::FsiProblem::fluid_pressure]; });
+}
+
+double FsiTube::cap_outflow() const {
+  double q = 0.0;
+  for (const physics::FaceMeasure& f : problem_->fluid().measure_faces(solver_->solution()))
+    if (f.face == "inlet" || f.face == "outlet")
+      q += f.flow;
+  return q;
+}
+
+double FsiTube::mean_fluid_pressure(double z0, double z1) const {
+  fem::ReadArray u(solver_->solution());
+  constexpr int B = physics::FsiProblem::block;
+  return node_mean(in_fluid_, z0, z1,
+                   [&](Index l) { return u[B * l + physics::FsiProblem::fluid_pressure]; });
 }
 
 } // namespace tearflow::verify

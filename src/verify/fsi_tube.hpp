@@ -36,17 +36,22 @@ public:
   double mean_radial_displacement(double z0, double z1) const;
   /// Mean fluid pressure [Pa] of the interface nodes with z in [z0, z1] (collective).
   double mean_interface_pressure(double z0, double z1) const;
+  /// Total outward flow [m^3/s] through the fluid caps `inlet` and `outlet` (collective).
+  double cap_outflow() const;
+  /// Mean fluid pressure [Pa] of all fluid nodes with z in [z0, z1] (collective).
+  double mean_fluid_pressure(double z0, double z1) const;
 
 private:
-  /// Sum over owned interface nodes in [z0, z1] of f(local node) and their count.
-  template <typename F> double interface_mean(double z0, double z1, F&& f) const;
+  /// Mean over the owned nodes with flag[node] set and z in [z0, z1] of f(local node).
+  template <typename F>
+  double node_mean(const std::vector<unsigned char>& flag, double z0, double z1, F&& f) const;
 
   FsiTubeSpec spec_;
   mesh::Mesh mesh_;
   std::unique_ptr<fem::DistributedMesh> dmesh_;
   std::unique_ptr<physics::FsiProblem> problem_;
   std::unique_ptr<physics::FsiSolver> solver_;
-  std::vector<unsigned char> on_interface_; ///< per input-mesh node
+  std::vector<unsigned char> on_interface_, in_fluid_; ///< per input-mesh node
   double t_ = 0.0;
 };
 

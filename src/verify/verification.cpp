@@ -64,6 +64,9 @@ const std::map<std::string, VerificationCase>& verification_cases() {
       {"inflation",
        {"compliant tube (FSI) under a slowly rising pressure: radius against thick-wall Lame",
         verify_inflation}},
+      {"pulse",
+       {"pressure pulse in a compliant tube (FSI): wave speed against the thick-wall estimate",
+        verify_pulse}},
   };
   return cases;
 }
