@@ -10,10 +10,10 @@ c_s 30 kN s/m^3 (the study's); dt 1 ms, rho_inf 0.5. Reports per rank count: mea
 per step, per Newton iteration, assembly seconds per step, Newton and KSP iterations per
 step, peak resident memory (max over ranks). The first step is excluded (start-up).
 """
-import argparse, json, math, os, platform, re, subprocess, tempfile, time
+import argparse, json, math, os, platform, tempfile, time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BIN = os.environ.get("TEARFLOW", os.path.join(ROOT, "build", "tearflow"))
+from run_progress import run_case
+
 
 CASE = """name: {name}
 mesh: {{file: {mesh}}}
@@ -99,8 +99,6 @@ def write_tube(path, a=0.012, b=0.014, length=0.087, nr=2, nt=96, nz=87):
         f.write("$EndElements\n")
     return len(tets)
 
-LINE = re.compile(r"step\s+(\d+)/\d+.*Newton (\d+) .*KSP\s+(\d+)\s+([\d.]+) s/step \(assembly ([\d.]+) s\)")
-
 def run(name, ranks, steps, petsc, tmp):
     mesh = os.path.join(tmp, name + ".msh")
     if not os.path.exists(mesh):
@@ -108,31 +106,7 @@ def run(name, ranks, steps, petsc, tmp):
     case = os.path.join(tmp, name + ".yaml")
     opts = f"petsc_options: \"{petsc}\"\n" if petsc else ""
     open(case, "w").write(CASE.format(name=name, mesh=mesh, steps=steps, petsc=opts))
-    cmd = [BIN, "run", case, "-o", os.path.join(tmp, f"{name}-{ranks}")]
-    if ranks > 1:
-        cmd = ["mpirun", "-n", str(ranks)] + cmd
-    cmd = ["/usr/bin/time", "-f", "MAXRSS %M"] + cmd
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    out = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    if out.returncode != 0:
-        return {"ranks": ranks, "error": out.stdout[-2000:] + out.stderr[-2000:]}
-    rows = [tuple(map(float, m.groups())) for m in LINE.finditer(out.stdout)]
-    rows = rows[1:] if len(rows) > 2 else rows
-    mesh_line = re.search(r"mesh: (\d+) nodes, (\d+) tets", out.stdout)
-    rss = max(int(x) for x in re.findall(r"MAXRSS (\d+)", out.stderr))
-    n = len(rows)
-    newton = sum(r[1] for r in rows)
-    return {
-        "ranks": ranks, "nodes": int(mesh_line.group(1)), "tets": int(mesh_line.group(2)),
-        "steps_timed": n,
-        "seconds_per_step": sum(r[3] for r in rows) / n,
-        "seconds_per_newton_iteration": sum(r[3] for r in rows) / newton,
-        "assembly_seconds_per_step": sum(r[4] for r in rows) / n,
-        "solve_seconds_per_step": sum(r[3] - r[4] for r in rows) / n,
-        "newton_per_step": newton / n,
-        "ksp_per_step": sum(r[2] for r in rows) / n,
-        "peak_rss_MiB_one_process_max": rss / 1024.0,
-    }
+    return run_case(case, ranks, os.path.join(tmp, f"{name}-{ranks}"))
 
 def main():
     ap = argparse.ArgumentParser()

@@ -56,7 +56,7 @@ std::int32_t find_in_row(const Csr& c, PetscInt row, PetscInt col) {
 
 ElementInserter::ElementInserter(const DofMap& dofs) : dofs_(dofs) {}
 
-void ElementInserter::begin(Mat A) {
+void ElementInserter::begin(Mat A, bool zero) {
   A_ = A;
   if (!recorded_ && A_ != nullptr) {
     PetscBool assembled;
@@ -64,7 +64,8 @@ void ElementInserter::begin(Mat A) {
     if (assembled)
       record_offsets(); // the pattern is complete after the first pass
   }
-  TF_PETSC(MatZeroEntries(A_));
+  if (zero)
+    TF_PETSC(MatZeroEntries(A_));
   direct_ = recorded_ && !offsets_.empty();
   if (!direct_)
     return;

@@ -23,8 +23,9 @@ class ElementInserter {
 public:
   explicit ElementInserter(const DofMap& dofs);
 
-  /// Zeroes A and prepares the insertion of this pass.
-  void begin(Mat A);
+  /// Zeroes A (unless `zero` is false: a second physics adding into the same pass) and
+  /// prepares the insertion of this pass.
+  void begin(Mat A, bool zero = true);
   /// Adds the element matrix Ke ((4 block) x (4 block), row-major, node-major dofs) of
   /// local tet e.
   void add(size_t e, const double* Ke);

@@ -128,8 +128,9 @@ MeshMotion::MeshMotion(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
     if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name, &set) == 0 && !set)
       TF_PETSC(PetscOptionsSetValue(nullptr, name, value));
   // The displacement enters the fluid's geometry, so its error is a residual error of the
-  // FSI system: solve well below the Newton tolerance.
-  TF_PETSC(KSPSetTolerances(ksp_, 1e-10, 1e-20, PETSC_DEFAULT, 1000));
+  // FSI system: solve below the Newton tolerance (1e-8 relative left pipe-fsi's Newton
+  // residual histories unchanged against 1e-10, 0.3 s/step faster).
+  TF_PETSC(KSPSetTolerances(ksp_, 1e-8, 1e-20, PETSC_DEFAULT, 1000));
   TF_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   TF_PETSC(KSPSetFromOptions(ksp_));
 }

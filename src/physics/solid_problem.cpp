@@ -34,7 +34,8 @@ SolidProblem::SolidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
                            SolidMaterial material, bc::SolidConditions conditions,
                            SolidScheme scheme, FieldLayout layout)
     : dmesh_(dmesh), layout_(layout), B_(layout.block), P_(layout.pressure),
-      elements_(layout.elements(dmesh)), dofs_(dmesh, layout.block), material_(material),
+      elements_(layout.elements(dmesh)), dofs_(dmesh, layout.block), inserter_(dofs_),
+      material_(material),
       conditions_(std::move(conditions)), scheme_(scheme) {
   const auto n_local = static_cast<size_t>(dmesh.num_local());
   const auto& x = dmesh.points();
@@ -252,24 +253,33 @@ void SolidProblem::add_jacobian(Vec U, Mat J, bool skip_dirichlet_rows) {
   SolidElementState s;
   ElementMatrix K;
   // Whole node blocks (4 B_ unknowns per element, zeros in the other physics' slot), so that
-  // the assembled pattern stays node-blocked for the fluid's direct insertion (FSI).
+  // the assembled pattern stays node-blocked. Without skipped rows (FSI: the caller replaces
+  // the Dirichlet rows) they go in by direct insertion, after the fluid's in the same pass.
   const int n = 4 * B_;
   std::vector<PetscInt> rows(n), cols(n);
   std::vector<double> Kx(B_ == 4 ? 0 : static_cast<size_t>(n) * n);
+  if (!skip_dirichlet_rows)
+    inserter_.begin(J, false);
   for (size_t e : elements_) {
     const Tet& t = tets[e];
     gather(t, s);
-    for (int a = 0; a < 4; ++a)
-      for (int c = 0; c < B_; ++c) {
-        rows[B_ * a + c] = skip_dirichlet_rows ? row_index(t[a], c) : dofs_.global_dof(t[a], c);
-        cols[B_ * a + c] = dofs_.global_dof(t[a], c);
-      }
     solid_jacobian(geometry_[e], s, material_, rows_[e], c_u, c_a, K);
     if (B_ != 4)
       expand_element_matrix(&K[0][0], layout_, Kx.data());
-    TF_PETSC(MatSetValues(J, n, rows.data(), n, cols.data(), B_ == 4 ? &K[0][0] : Kx.data(),
-                          ADD_VALUES));
+    const double* Ke = B_ == 4 ? &K[0][0] : Kx.data();
+    if (!skip_dirichlet_rows) {
+      inserter_.add(e, Ke);
+      continue;
+    }
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < B_; ++c) {
+        rows[B_ * a + c] = row_index(t[a], c);
+        cols[B_ * a + c] = dofs_.global_dof(t[a], c);
+      }
+    TF_PETSC(MatSetValues(J, n, rows.data(), n, cols.data(), Ke, ADD_VALUES));
   }
+  if (!skip_dirichlet_rows)
+    inserter_.end();
 
   std::array<PetscInt, 9> trows, tcols;
   auto insert_triangle = [&](const Tri& t, const bc::TriMatrix& Kt) {

@@ -19,6 +19,7 @@
 
 #include "bc/solid_conditions.hpp"
 #include "fem/dof_map.hpp"
+#include "fem/element_inserter.hpp"
 #include "physics/field_layout.hpp"
 #include "physics/generalized_alpha.hpp"
 #include "physics/solid_kernel.hpp"
@@ -113,6 +114,7 @@ private:
   int B_, P_;                    ///< block size and pressure slot
   std::vector<size_t> elements_; ///< the local tets of the solid
   fem::DofMap dofs_;
+  fem::ElementInserter inserter_; ///< whole-block insertion (FSI: no skipped rows)
   SolidMaterial material_;
   bc::SolidConditions conditions_;
   SolidScheme scheme_;

@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""Time per step, Newton and Krylov iterations of the monolithic FSI solver; prints JSON.
+
+usage: bench/fsi_step.py [--steps N] [--ranks 1 2] [--cases pipe-fsi pulse-1.5mm pulse-1mm]
+  pipe-fsi:    the field's case (examples/pipe-fsi/case.yaml; 289,925 tets, 53,297 nodes);
+               the reference solver needs about 33 s per step on 2 cores.
+  pulse-*:     the pressure-pulse tube of `tearflow verify pulse` (radius 5 mm, wall 1 mm,
+               5 cm long, E = 3e5 Pa) at two element sizes, dt = 0.1 ms.
+The first step is excluded (start-up) when more than two are run.
+"""
+import argparse, json, os, platform, tempfile, time
+
+from run_progress import ROOT, run_case
+
+PULSE = """name: {name}
+mesh:
+  pipe: {{radius: 0.005, length: 0.05, element_size: {size}, wall_thickness: 0.001}}
+fluid: {{density: 1000, viscosity: 0.003}}
+time: {{step: 1.0e-4, steps: {steps}, spectral_radius: 0.5, start: rest}}
+boundary_conditions:
+  - {{face: inlet, type: pressure, pressure: 10, units: mmHg, backflow_beta: 0}}
+  - {{face: outlet, type: pressure, pressure: 0}}
+solid:
+  model: neo_hookean
+  density: 1200
+  youngs_modulus: 3.0e5
+  poisson_ratio: 0.3
+  boundary_conditions:
+    - {{face: wall_inlet, type: fixed}}
+    - {{face: wall_outlet, type: fixed}}
+newton: {{max_iterations: 10, rtol: 1.0e-6, atol: 1.0e-12}}
+output: {{every: 0}}
+"""
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--steps", type=int, default=5)
+    ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--cases", nargs="+", default=["pipe-fsi", "pulse-1.5mm", "pulse-1mm"])
+    a = ap.parse_args()
+    result = {"date": time.strftime("%Y-%m-%d"),
+              "machine": platform.processor() or platform.machine(), "cores": os.cpu_count(),
+              "results": {}}
+    with tempfile.TemporaryDirectory() as tmp:
+        for c in a.cases:
+            if c == "pipe-fsi":
+                case, cwd = "case.yaml", os.path.join(ROOT, "examples", "pipe-fsi")
+            else:
+                size = float(c.split("-")[1].rstrip("m")) * 1e-3
+                case, cwd = os.path.join(tmp, c + ".yaml"), None
+                open(case, "w").write(PULSE.format(name=c, size=size, steps=a.steps))
+            result["results"][c] = [run_case(case, r, os.path.join(tmp, f"{c}-{r}"), a.steps, cwd)
+                                    for r in a.ranks]
+    print(json.dumps(result, indent=2))
+
+if __name__ == "__main__":
+    main()
