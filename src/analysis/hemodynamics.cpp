@@ -72,6 +72,7 @@ json landmark_json(const Analysis& a, const LandmarkSeries& s) {
          {"A_mean_m2", time_mean(a.time, area)},
          {"A_mean_mm2", time_mean(a.time, area) / (units::mm * units::mm)},
          {"A_max_over_A_0", a_max / a0},
+         {"A_peak_systole_mm2", area[a.peak_systole] / (units::mm * units::mm)},
          {"max_through_plane_velocity_m_per_s", u_max}};
   j.update(pressure_json("mean_pressure", time_mean(a.time, p)));
   j.update(pressure_json("peak_systolic_pressure", p[a.peak_systole]));
@@ -113,9 +114,8 @@ std::vector<FlowFrame> select_frames(const AnalyzeOptions& o, std::string& label
                 file.string());
   json chosen = cycles.back();
   if (o.cycle) {
-    const auto it = std::find_if(cycles.begin(), cycles.end(), [&](const json& c) {
-      return c.value("cycle", -1) == *o.cycle;
-    });
+    const auto it = std::find_if(cycles.begin(), cycles.end(),
+                                 [&](const json& c) { return c.value("cycle", -1) == *o.cycle; });
     if (it == cycles.end())
       input_error("'{}': no complete cycle {} (the run completed cycles 1 to {})", file.string(),
                   *o.cycle, cycles.back().value("cycle", 0));
@@ -221,8 +221,8 @@ json metrics_json(const Analysis& a) {
     if (!f || !t)
       return;
     const double ps = f->samples[a.peak_systole].pressure - t->samples[a.peak_systole].pressure;
-    const double mean = time_mean(a.time, sampled(*f, pressure_of)) -
-                        time_mean(a.time, sampled(*t, pressure_of));
+    const double mean =
+        time_mean(a.time, sampled(*f, pressure_of)) - time_mean(a.time, sampled(*t, pressure_of));
     json d = pressure_json("peak_systole", ps);
     d.update(pressure_json("mean", mean));
     drops[key] = d;
@@ -231,6 +231,12 @@ json metrics_json(const Analysis& a) {
   drop("exit_tear_FL5_to_outlet", "FL5", "outlet");
   drop("inlet_to_outlet", "inlet", "outlet");
 
+  // Min-to-max dilation at AAo, as a diameter change: D ~ sqrt(A), so sqrt(A_max / A_min) - 1.
+  if (const LandmarkSeries* aao = a.find("AAo")) {
+    const std::vector<double> area = sampled(*aao, area_of);
+    const auto [lo, hi] = std::minmax_element(area.begin(), area.end());
+    j["AAo_min_to_max_dilation_percent"] = (std::sqrt(*hi / *lo) - 1.0) * 100.0;
+  }
   j["landmarks"] = landmarks;
   j["stations"] = station_json;
   j["peak_systolic_pressure_over_inlet"] = normalised;
@@ -247,10 +253,10 @@ void write_analysis(const Analysis& a, const std::filesystem::path& dir) {
     const double a0 = s.samples.front().area;
     for (std::size_t i = 0; i < a.time.size(); ++i) {
       const SectionValues& v = s.samples[i];
-      csv += fmt::format("{:.10g},{:.10e},{:.10g},{:.10e},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
-                         a.time[i], v.flow, v.flow / units::mL, v.area,
-                         v.area / (units::mm * units::mm), v.area / a0, v.pressure,
-                         v.pressure / units::mmHg, v.max_velocity);
+      csv += fmt::format(
+          "{:.10g},{:.10e},{:.10g},{:.10e},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", a.time[i],
+          v.flow, v.flow / units::mL, v.area, v.area / (units::mm * units::mm), v.area / a0,
+          v.pressure, v.pressure / units::mmHg, v.max_velocity);
     }
     io::write_file_atomically(dir / (s.landmark.name + ".csv"), csv);
   }

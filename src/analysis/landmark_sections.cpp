@@ -6,8 +6,10 @@
 #include <map>
 #include <regex>
 
+#include <vtk3DLinearGridPlaneCutter.h>
 #include <vtkCellData.h>
 #include <vtkCellLocator.h>
+#include <vtkCleanPolyData.h>
 #include <vtkConnectivityFilter.h>
 #include <vtkCutter.h>
 #include <vtkDataArray.h>
@@ -49,13 +51,31 @@ PlaneSection cut(vtkUnstructuredGrid* grid, const Vec3& origin, const Vec3& norm
   auto plane = vtkSmartPointer<vtkPlane>::New();
   plane->SetOrigin(origin[0], origin[1], origin[2]);
   plane->SetNormal(normal[0], normal[1], normal[2]);
-  auto cutter = vtkSmartPointer<vtkCutter>::New();
-  cutter->SetCutFunction(plane);
-  cutter->SetInputData(grid);
-  cutter->Update();
-  vtkPolyData* section = cutter->GetOutput();
+  // The section's polygons must share the points of the fluid edges they cut, or each would
+  // be a region of its own: vtkCutter hands linear cells to vtk3DLinearGridPlaneCutter, which
+  // does not merge points by default, so that filter is used directly with merging on
+  // (exact, by edge); other cells go through vtkCutter and a merge of coincident points.
+  vtkSmartPointer<vtkPolyData> section;
+  if (vtk3DLinearGridPlaneCutter::CanFullyProcessDataObject(grid)) {
+    auto cutter = vtkSmartPointer<vtk3DLinearGridPlaneCutter>::New();
+    cutter->SetPlane(plane);
+    cutter->MergePointsOn();
+    cutter->InterpolateAttributesOn();
+    cutter->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
+    cutter->SetInputData(grid);
+    cutter->Update();
+    section = vtkPolyData::SafeDownCast(cutter->GetOutputDataObject(0));
+  } else {
+    auto cutter = vtkSmartPointer<vtkCutter>::New();
+    cutter->SetCutFunction(plane);
+    cutter->SetInputData(grid);
+    auto merge = vtkSmartPointer<vtkCleanPolyData>::New();
+    merge->SetInputConnection(cutter->GetOutputPort());
+    merge->Update();
+    section = merge->GetOutput();
+  }
   PlaneSection s;
-  if (section->GetNumberOfCells() == 0)
+  if (section == nullptr || section->GetNumberOfCells() == 0)
     return s;
   // The through-plane velocity as a point field, so that the integrator gives Q directly.
   vtkDataArray* velocity = section->GetPointData()->GetArray("velocity");
@@ -68,8 +88,7 @@ PlaneSection cut(vtkUnstructuredGrid* grid, const Vec3& origin, const Vec3& norm
     un->SetValue(i, u[0] * normal[0] + u[1] * normal[1] + u[2] * normal[2]);
   }
   section->GetPointData()->AddArray(un);
-  // vtkCutter merges coincident points, so cut polygons of neighbouring tets share points
-  // and the connectivity of the section follows that of the fluid.
+  // The polygons share points, so the connectivity of the section follows that of the fluid.
   auto connectivity = vtkSmartPointer<vtkConnectivityFilter>::New();
   connectivity->SetInputData(section);
   connectivity->SetExtractionModeToAllRegions();
@@ -162,7 +181,11 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
   std::map<int, std::map<std::string, std::pair<int, vtkIdType>>> stations;
   for (const geometry::Landmark& l : landmarks.planes) {
     const Vec3 n = unit(l.normal);
-    if (section_id < 0 || l.origin != cut_origin || n != cut_normal) {
+    // One plane when the normals agree and the origin lies on the last cut's plane (TLk / FLk
+    // of an imported file may give different origins on their shared plane).
+    const bool same_plane = section_id >= 0 && dot(n, cut_normal) > 1.0 - 1e-12 &&
+                            std::abs(dot(l.origin - cut_origin, cut_normal)) < 1e-9;
+    if (!same_plane) {
       section = cut(grid, l.origin, n);
       ++section_id;
       cut_origin = l.origin;
@@ -179,8 +202,8 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
     vtkIdType cell = -1;
     int sub = 0;
     section.locator->FindClosestPoint(q.data(), closest, cell, sub, dist2);
-    const vtkIdType region = static_cast<vtkIdType>(
-        section.regions->GetCellData()->GetArray(kRegion)->GetTuple1(cell));
+    const vtkIdType region =
+        static_cast<vtkIdType>(section.regions->GetCellData()->GetArray(kRegion)->GetTuple1(cell));
     const SectionValues v = integrate(section.regions, region);
     if (std::sqrt(dist2) > kPointSlack * std::sqrt(v.area / M_PI))
       input_error("{}: landmark '{}': its lumen point ({:.2f}, {:.2f}, {:.2f}) mm is not inside "
