@@ -20,6 +20,22 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
       conditions_(std::move(conditions)), scheme_(scheme) {
   const auto n_local = static_cast<size_t>(dmesh.num_local());
   elements_ = layout_.elements(dmesh);
+  // Faces of the fluid: every node on a fluid tet (from the replicated mesh, so that all
+  // ranks agree); with a wall region, its own faces are not the fluid's.
+  {
+    std::vector<unsigned char> in_fluid(mesh.num_nodes(), layout_.region < 0);
+    if (layout_.region >= 0)
+      for (size_t e = 0; e < mesh.tets.size(); ++e)
+        if (mesh.tet_region[e] == layout_.region)
+          for (Index v : mesh.tets[e])
+            in_fluid[v] = 1;
+    for (const fem::LocalFace& f : dmesh.faces()) {
+      bool all = true;
+      for (const Tri& t : mesh.face(f.name).triangles)
+        all = all && in_fluid[t[0]] && in_fluid[t[1]] && in_fluid[t[2]];
+      fluid_face_.push_back(all);
+    }
+  }
   x_ = dmesh.points();
   w_.assign(n_local, Vec3{});
   geometry_.resize(dmesh.tets().size());
@@ -417,6 +433,8 @@ std::vector<FaceMeasure> FluidProblem::measure_faces(Vec U) const {
                 dmesh_.comm());
   std::vector<FaceMeasure> out;
   for (size_t i = 0; i < dmesh_.faces().size(); ++i) {
+    if (!fluid_face_[i]) // a face of the wall only (FSI): no flow to measure
+      continue;
     const double* s = &sums[per_face * i];
     out.push_back({dmesh_.faces()[i].name, s[0], s[1] / s[2], s[2], s[3]});
   }

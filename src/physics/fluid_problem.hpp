@@ -89,6 +89,7 @@ public:
   void set_outlet_states(const std::vector<OutletState>& states);
   const bc::FluidConditions& conditions() const { return conditions_; }
 
+  /// Per face of the fluid (wall-only faces of an FSI mesh left out), in mesh order.
   std::vector<FaceMeasure> measure_faces(Vec U) const;
 
 private:
@@ -122,6 +123,7 @@ private:
   double t_n_ = 0.0, dt_ = 1.0;
 
   std::vector<size_t> elements_;           ///< the local tets of the fluid
+  std::vector<bool> fluid_face_;           ///< per dmesh face: it bounds the fluid
   std::vector<Vec3> x_, w_;                ///< configuration and mesh velocity per local node
   std::vector<fem::TetGeometry> geometry_; ///< per local tet, on x_
   std::vector<Stabilization> stab_;        ///< per local tet, from U_n
