@@ -15,8 +15,18 @@
 // wave reflected at the open outlet reaches it while the pulse passes.
 //
 // Tolerance 10 % (the issue's) against the thick-wall estimate. Numerical dispersion and
-// damping (rho_inf = 0.5, P1) slow and smear the front; refinement must move the speed
-// towards the estimate (--convergence: a second level with h and dt scaled by 0.7).
+// damping slow and smear the front; refinement must move the speed towards the estimate
+// (--convergence: a second level with h and dt scaled by 0.7).
+//
+// Status (open, issue 10): the measured speed depends on the resolution in a way not yet
+// understood. Half-height speeds [m/s] by (h, dt): (1.5 mm, 150 us) 4.38; (1 mm, 100 us) 4.45;
+// (1.5 mm, 50 us) 4.60; (1.5 mm, 25 us) 5.00; (1.05 mm, 17.5 us) 4.60. rho_inf (0.5 or 1) and
+// the moving mesh (ALE or not) changed it by under 0.5 %, and a 6 ms raised-cosine pulse
+// gave 4.50 at (1.5 mm, 150 us). Suspects: the arrival measurement (half of each station's
+// own peak, a slab mean of nodal pressures), the station at 1 cm near the clamped inlet
+// ring, and the physical dispersion of a pulse only three radii long (c(k)^2 = c0^2 2 I1(ka)
+// / (ka I0(ka)) for radial fluid inertia, ~0.93 c0 at ka = 1), which puts the true answer
+// below the long-wave estimate. The full verification runs it; CI does not.
 #include <cmath>
 #include <numbers>
 
@@ -145,7 +155,7 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
   const double D = 2.0 * (1.0 + nu) * ((1.0 - 2.0 * nu) * a * a + b * b) / (E * (b * b - a * a));
   const double c_thick = 1.0 / std::sqrt(rho_f * D);
   const double c_mk = std::sqrt(E * h / (2.0 * rho_f * a));
-  const double size = 1e-3 * options.coarsening, dt = 1e-4 * options.coarsening;
+  const double size = 1e-3 * options.coarsening, dt = 2.5e-5 * options.coarsening / 1.5;
   const PulseRun coarse = run_pulse(size, dt, options.progress);
   const double error = std::abs(coarse.speed_half_height - c_thick) / c_thick;
 
@@ -162,8 +172,9 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
     const PulseRun fine = run_pulse(0.7 * size, 0.7 * dt, options.progress);
     res.details["runs"].push_back(to_json(fine));
     const double fine_error = std::abs(fine.speed_half_height - c_thick) / c_thick;
-    // Refinement must not move the speed away from the estimate (beyond 1 % of it, the
-    // arrival-time resolution of one step at the coarse level: dt c / 2 cm ~ 2.6 %/2).
+    // Refinement must not move the speed away from the estimate, beyond 1 % of it (a tenth of
+    // the tolerance; the arrival times are interpolated between steps of 25 us, 1.3 % of the
+    // 2 cm between the outer stations at 5 m/s).
     res.metrics.push_back({"refinement_error_growth", fine_error - error, 0.01,
                            "error at h, dt x 0.7 minus error at h, dt; <= 1 % (must not grow)"});
   }
