@@ -4,6 +4,7 @@
 //   tearflow geometry tbad|import|report ...   (docs/geometry.md)
 //   tearflow tune CASE.yaml --targets TARGETS.yaml [-o TUNED.yaml]   (docs/tuning.md)
 //   tearflow analyze RUN_DIR [--landmarks FILE] [--cycle N | --frames all]   (docs/analysis.md)
+//   tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]                   (docs/analysis.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include <spdlog/spdlog.h>
 
 #include "analysis/analyze_command.hpp"
+#include "analysis/report_command.hpp"
 #include "core/error.hpp"
 #include "fem/petsc.hpp"
 #include "geometry/geometry_command.hpp"
@@ -134,6 +136,7 @@ int main(int argc, char** argv) {
   const geometry::GeometryCommand geometry_command(app);
   const tuning::TuneCommand tune_command(app);
   const analysis::AnalyzeCommand analyze_command(app);
+  const analysis::ReportCommand report_command(app);
 
   int code = 0;
   try {
@@ -148,6 +151,8 @@ int main(int argc, char** argv) {
       code = tune_command.run(cli_petsc);
     if (analyze_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
       code = analyze_command.run();
+    if (report_command.selected() && fem::mpi_rank() == 0)
+      code = report_command.run();
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
   } catch (const InputError& e) {

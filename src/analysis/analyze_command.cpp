@@ -14,12 +14,15 @@ AnalyzeCommand::AnalyzeCommand(CLI::App& app) {
   command_->add_option("run_dir", run_dir_, "output directory of `tearflow run`")->required();
   command_->add_option("--landmarks", landmarks_,
                        "landmarks JSON (default RUN_DIR/geometry/landmarks.json)");
-  command_->add_option("--cycle", cycle_, "cardiac cycle as numbered in cycles.json (default: "
-                                          "the last complete one)")
+  command_
+      ->add_option("--cycle", cycle_,
+                   "cardiac cycle as numbered in cycles.json (default: "
+                   "the last complete one)")
       ->check(CLI::PositiveNumber);
-  command_->add_option("--frames", frames_,
-                       "'cycle' (a complete cardiac cycle) or 'all' (every saved frame, no "
-                       "cycle needed)")
+  command_
+      ->add_option("--frames", frames_,
+                   "'cycle' (a complete cardiac cycle) or 'all' (every saved frame, no "
+                   "cycle needed)")
       ->check(CLI::IsMember({"cycle", "all"}));
   command_->add_option("-o,--output", output_, "output directory (default RUN_DIR/analysis)");
   command_->add_flag("-q,--quiet", quiet_, "no summary lines");
@@ -47,9 +50,9 @@ int AnalyzeCommand::run() const {
     const nlohmann::json m = metrics_json(a);
     for (const LandmarkSeries& s : a.series) {
       const nlohmann::json& l = m["landmarks"][s.landmark.name];
-      fmt::print("{:<10} {:>5} {:>14.3f} {:>10.2f} {:>12.2f}\n", s.landmark.name,
-                 s.landmark.lumen, l["mean_flow_m3_per_s"].get<double>() / units::mL,
-                 l["A_0_mm2"].get<double>(), l["mean_pressure_mmHg"].get<double>());
+      fmt::print("{:<10} {:>5} {:>14.3f} {:>10.2f} {:>12.2f}\n", s.landmark.name, s.landmark.lumen,
+                 l["mean_flow_m3_per_s"].get<double>() / units::mL, l["A_0_mm2"].get<double>(),
+                 l["mean_pressure_mmHg"].get<double>());
     }
     fmt::print("results in '{}'\n", o.output.string());
   }

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <vtkUnstructuredGrid.h>
 
+#include "analysis/measured_data.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
 #include "io/vtu_series.hpp"
@@ -23,6 +24,17 @@ using Sampler = std::function<double(const SectionValues&)>;
 const Sampler flow_of = [](const SectionValues& v) { return v.flow; };
 const Sampler area_of = [](const SectionValues& v) { return v.area; };
 const Sampler pressure_of = [](const SectionValues& v) { return v.pressure; };
+
+const Sampler displacement_of = [](const SectionValues& v) { return v.wall_displacement; };
+
+bool all_finite(const std::vector<double>& f) {
+  return std::all_of(f.begin(), f.end(), [](double x) { return std::isfinite(x); });
+}
+
+/// Largest value; NaN when any sample is (a quantity a measurement does not give).
+double largest(const std::vector<double>& f) {
+  return all_finite(f) ? *std::max_element(f.begin(), f.end()) : std::nan("");
+}
 
 std::vector<double> sampled(const LandmarkSeries& s, const Sampler& f) {
   std::vector<double> out;
@@ -56,15 +68,13 @@ bool is_pressure_landmark(const geometry::Landmark& l) {
 json landmark_json(const Analysis& a, const LandmarkSeries& s) {
   const std::vector<double> q = sampled(s, flow_of), area = sampled(s, area_of),
                             p = sampled(s, pressure_of);
-  double u_max = -INFINITY;
-  for (const SectionValues& v : s.samples)
-    u_max = std::max(u_max, v.max_velocity);
-  const double a0 = area.front(), a_max = *std::max_element(area.begin(), area.end());
+  const double u_max = largest(sampled(s, [](const SectionValues& v) { return v.max_velocity; }));
+  const double a0 = area.front(), a_max = largest(area);
   json j{{"lumen", s.landmark.lumen},
          {"net_flow_volume_m3", integral(a.time, q)},
          {"net_flow_volume_mL", integral(a.time, q) / units::mL},
          {"mean_flow_m3_per_s", time_mean(a.time, q)},
-         {"peak_flow_m3_per_s", *std::max_element(q.begin(), q.end())},
+         {"peak_flow_m3_per_s", largest(q)},
          {"A_0_m2", a0},
          {"A_0_mm2", a0 / (units::mm * units::mm)},
          {"A_max_m2", a_max},
@@ -73,7 +83,8 @@ json landmark_json(const Analysis& a, const LandmarkSeries& s) {
          {"A_mean_mm2", time_mean(a.time, area) / (units::mm * units::mm)},
          {"A_max_over_A_0", a_max / a0},
          {"A_peak_systole_mm2", area[a.peak_systole] / (units::mm * units::mm)},
-         {"max_through_plane_velocity_m_per_s", u_max}};
+         {"max_through_plane_velocity_m_per_s", u_max},
+         {"max_wall_displacement_mm", largest(sampled(s, displacement_of)) / units::mm}};
   j.update(pressure_json("mean_pressure", time_mean(a.time, p)));
   j.update(pressure_json("peak_systolic_pressure", p[a.peak_systole]));
   j.update(pressure_json("end_diastolic_pressure", p[a.end_diastole]));
@@ -136,6 +147,16 @@ std::vector<FlowFrame> select_frames(const AnalyzeOptions& o, std::string& label
 }
 
 Analysis analyze_run(const AnalyzeOptions& o) {
+  if (!std::filesystem::exists(o.run_dir / "flow.pvd")) {
+    if (!is_measurement_folder(o.run_dir))
+      input_error("'{}' holds neither a run's output (flow.pvd) nor a measurement table "
+                  "(flow.csv, area.csv, pressure.csv; docs/analysis.md)",
+                  o.run_dir.string());
+    if (o.cycle || o.all_frames)
+      input_error("'{}' holds measurements (one cycle): --cycle and --frames do not apply",
+                  o.run_dir.string());
+    return read_measured(o.run_dir);
+  }
   const std::filesystem::path landmarks_file =
       o.landmarks.empty() ? o.run_dir / "geometry" / "landmarks.json" : o.landmarks;
   const geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_file);
@@ -150,15 +171,29 @@ Analysis analyze_run(const AnalyzeOptions& o) {
       a.series[i].samples.push_back(v[i]);
     a.time.push_back(f.time);
   }
-  const LandmarkSeries* inlet = a.find("inlet");
-  const std::vector<double> q = sampled(inlet ? *inlet : a.series.front(), flow_of);
-  a.peak_systole = static_cast<std::size_t>(std::max_element(q.begin(), q.end()) - q.begin());
-  a.end_diastole = 0;
+  mark_cycle_events(a);
   return a;
 }
 
+void mark_cycle_events(Analysis& a) {
+  const LandmarkSeries* reference = a.find("inlet");
+  if (reference == nullptr || !all_finite(sampled(*reference, flow_of)))
+    for (const LandmarkSeries& s : a.series)
+      if (all_finite(sampled(s, flow_of))) {
+        reference = &s;
+        break;
+      }
+  a.peak_systole = 0;
+  if (reference != nullptr) {
+    const std::vector<double> q = sampled(*reference, flow_of);
+    a.peak_systole = static_cast<std::size_t>(std::max_element(q.begin(), q.end()) - q.begin());
+  }
+  a.end_diastole = 0;
+}
+
 json metrics_json(const Analysis& a) {
-  json j{{"frames", a.frames},
+  json j{{"source", a.source},
+         {"frames", a.frames},
          {"frame_count", a.time.size()},
          {"t_begin_s", a.time.front()},
          {"t_end_s", a.time.back()},
@@ -198,9 +233,13 @@ json metrics_json(const Analysis& a) {
       double worst = 0, peak = 0;
       for (std::size_t i = 0; i < a.time.size(); ++i) {
         const double sum = tl->samples[i].flow + fl->samples[i].flow;
-        worst = std::max(worst, std::abs(sum - ref->samples[i].flow));
+        const double difference = std::abs(sum - ref->samples[i].flow);
+        worst = std::isnan(difference) || std::isnan(worst) ? std::nan("")
+                                                            : std::max(worst, difference);
         peak = std::max(peak, std::abs(ref->samples[i].flow));
       }
+      if (std::isnan(worst))
+        continue; // a measurement without these flows
       s[fmt::format("flow_conservation_vs_{}_max_abs_difference_m3_per_s", name)] = worst;
       s[fmt::format("flow_conservation_vs_{}_relative_to_peak", name)] =
           peak > 0 ? json(worst / peak) : json(nullptr);
@@ -235,7 +274,8 @@ json metrics_json(const Analysis& a) {
   if (const LandmarkSeries* aao = a.find("AAo")) {
     const std::vector<double> area = sampled(*aao, area_of);
     const auto [lo, hi] = std::minmax_element(area.begin(), area.end());
-    j["AAo_min_to_max_dilation_percent"] = (std::sqrt(*hi / *lo) - 1.0) * 100.0;
+    if (all_finite(area))
+      j["AAo_min_to_max_dilation_percent"] = (std::sqrt(*hi / *lo) - 1.0) * 100.0;
   }
   j["landmarks"] = landmarks;
   j["stations"] = station_json;
@@ -249,14 +289,16 @@ void write_analysis(const Analysis& a, const std::filesystem::path& dir) {
   io::write_file_atomically(dir / "metrics.json", metrics_json(a).dump(2) + "\n");
   for (const LandmarkSeries& s : a.series) {
     std::string csv = "time_s,flow_m3_per_s,flow_mL_per_s,area_m2,area_mm2,area_over_A_0,"
-                      "mean_pressure_Pa,mean_pressure_mmHg,max_through_plane_velocity_m_per_s\n";
+                      "mean_pressure_Pa,mean_pressure_mmHg,max_through_plane_velocity_m_per_s,"
+                      "wall_displacement_mm\n";
     const double a0 = s.samples.front().area;
     for (std::size_t i = 0; i < a.time.size(); ++i) {
       const SectionValues& v = s.samples[i];
       csv += fmt::format(
-          "{:.10g},{:.10e},{:.10g},{:.10e},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", a.time[i],
-          v.flow, v.flow / units::mL, v.area, v.area / (units::mm * units::mm), v.area / a0,
-          v.pressure, v.pressure / units::mmHg, v.max_velocity);
+          "{:.10g},{:.10e},{:.10g},{:.10e},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
+          a.time[i], v.flow, v.flow / units::mL, v.area, v.area / (units::mm * units::mm),
+          v.area / a0, v.pressure, v.pressure / units::mmHg, v.max_velocity,
+          v.wall_displacement / units::mm);
     }
     io::write_file_atomically(dir / (s.landmark.name + ".csv"), csv);
   }

@@ -39,8 +39,9 @@ struct LandmarkSeries {
 };
 
 struct Analysis {
-  std::string frames;       ///< what was analysed, e.g. "cycle 3" or "all saved frames"
-  std::vector<double> time; ///< per frame [s]
+  std::string source = "simulation"; ///< or "measured" (analysis/measured_data.hpp)
+  std::string frames;                ///< what was analysed, e.g. "cycle 3" or "all saved frames"
+  std::vector<double> time;          ///< per frame [s]
   std::vector<LandmarkSeries> series;
   std::size_t peak_systole = 0; ///< frame index
   std::size_t end_diastole = 0; ///< frame index (the first)
@@ -53,8 +54,13 @@ struct Analysis {
 /// when there is no complete cycle, the chosen one does not exist or holds < 2 frames.
 std::vector<FlowFrame> select_frames(const AnalyzeOptions& options, std::string& label);
 
-/// Reads the frames and measures every landmark of each (see measure_landmarks).
+/// Reads the frames and measures every landmark of each (see measure_landmarks); a folder of
+/// measurement tables instead of a run is read by read_measured (analysis/measured_data.hpp).
 Analysis analyze_run(const AnalyzeOptions& options);
+
+/// Sets peak systole (largest flow through `inlet`, else through the first landmark with a
+/// measured flow) and end diastole (the first frame).
+void mark_cycle_events(Analysis& analysis);
 
 /// The headline numbers; every key names its unit.
 nlohmann::json metrics_json(const Analysis& analysis);

@@ -14,17 +14,21 @@
 #include <vtkCutter.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkIntegrateAttributes.h>
 #include <vtkPlane.h>
 #include <vtkPointData.h>
 #include <vtkPointSet.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 #include <vtkThreshold.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "core/error.hpp"
 #include "core/units.hpp"
+#include "io/vtu_series.hpp"
 
 namespace tearflow::analysis {
 
@@ -32,6 +36,7 @@ namespace {
 
 constexpr const char* kThroughPlane = "through_plane_velocity";
 constexpr const char* kRegion = "RegionId";
+constexpr const char* kDisplacement = "displacement";
 // A lumen point may sit off its region by rounding in the landmarks file (mm with a few
 // digits) or because a moving wall shifted the section; beyond this fraction of the
 // region's equivalent radius sqrt(A / pi) it belongs to another lumen or to none.
@@ -124,7 +129,58 @@ SectionValues integrate(vtkPointSet* regions, vtkIdType region) {
   v.max_velocity = -std::numeric_limits<double>::infinity();
   for (vtkIdType i = 0; i < un->GetNumberOfTuples(); ++i)
     v.max_velocity = std::max(v.max_velocity, un->GetTuple1(i));
+  // The wall's displacement at the station: the largest |d| on the section, which is reached
+  // on its rim (the lumen wall; the fluid mesh's own motion decays inwards).
+  if (vtkDataArray* d = piece->GetPointData()->GetArray(kDisplacement))
+    for (vtkIdType i = 0; i < d->GetNumberOfTuples(); ++i) {
+      double u[3];
+      d->GetTuple(i, u);
+      v.wall_displacement =
+          std::max(v.wall_displacement, std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+    }
   return v;
+}
+
+/// The fluid of a frame in its deformed position: an FSI frame holds the fluid and the wall
+/// (cell array `region`, names in field data) and the nodes' displacement from the reference
+/// mesh; the landmark planes cut the lumen as it is at that instant.
+vtkSmartPointer<vtkUnstructuredGrid> deformed_fluid(vtkSmartPointer<vtkUnstructuredGrid> grid,
+                                                    const std::filesystem::path& vtu) {
+  auto* names =
+      vtkStringArray::SafeDownCast(grid->GetFieldData()->GetAbstractArray(io::kRegionNamesArray));
+  vtkDataArray* region = grid->GetCellData()->GetArray(io::kRegionArray);
+  if (names != nullptr && region != nullptr) {
+    const vtkIdType fluid = names->LookupValue("fluid");
+    if (fluid < 0)
+      input_error("frame '{}': several volume regions and none is called 'fluid'", vtu.string());
+    auto threshold = vtkSmartPointer<vtkThreshold>::New();
+    threshold->SetInputData(grid);
+    threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
+                                      io::kRegionArray);
+    threshold->SetLowerThreshold(static_cast<double>(fluid) - 0.5);
+    threshold->SetUpperThreshold(static_cast<double>(fluid) + 0.5);
+    threshold->SetThresholdFunction(vtkThreshold::THRESHOLD_BETWEEN);
+    threshold->Update();
+    grid = threshold->GetOutput();
+  }
+  vtkDataArray* d = grid->GetPointData()->GetArray(kDisplacement);
+  if (d == nullptr)
+    return grid;
+  if (d->GetNumberOfComponents() != 3)
+    input_error("frame '{}': point field 'displacement' needs 3 components", vtu.string());
+  auto moved = vtkSmartPointer<vtkPoints>::New();
+  moved->SetDataTypeToDouble();
+  moved->SetNumberOfPoints(grid->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
+    double x[3], u[3];
+    grid->GetPoint(i, x);
+    d->GetTuple(i, u);
+    moved->SetPoint(i, x[0] + u[0], x[1] + u[1], x[2] + u[2]);
+  }
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  out->ShallowCopy(grid);
+  out->SetPoints(moved);
+  return out;
 }
 
 } // namespace
@@ -167,7 +223,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path
     input_error("frame '{}': no point field 'velocity' with 3 components", vtu.string());
   if (grid->GetPointData()->GetArray("pressure") == nullptr)
     input_error("frame '{}': no point field 'pressure'", vtu.string());
-  return grid;
+  return deformed_fluid(grid, vtu);
 }
 
 std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,

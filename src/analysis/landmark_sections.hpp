@@ -36,15 +36,17 @@ struct FlowFrame {
 std::vector<FlowFrame> read_pvd(const std::filesystem::path& pvd);
 
 /// Reads a frame's VTU; InputError naming the file when it cannot be read or lacks the point
-/// fields `velocity` (3 components) or `pressure`.
+/// fields `velocity` (3 components) or `pressure`. A frame of a fluid-structure run is
+/// reduced to its `fluid` region and moved by its `displacement` field: the deformed lumen.
 vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path& vtu);
 
 /// The integrals over one landmark's lumen section, SI.
 struct SectionValues {
-  double flow = 0.0;         ///< Q = int u.n dA [m^3/s]
-  double area = 0.0;         ///< A [m^2]
-  double pressure = 0.0;     ///< area-mean pressure [Pa]
-  double max_velocity = 0.0; ///< largest through-plane velocity u.n [m/s]
+  double flow = 0.0;              ///< Q = int u.n dA [m^3/s]
+  double area = 0.0;              ///< A [m^2]
+  double pressure = 0.0;          ///< area-mean pressure [Pa]
+  double max_velocity = 0.0;      ///< largest through-plane velocity u.n [m/s]
+  double wall_displacement = 0.0; ///< largest |displacement| on the section (its rim) [m]
 };
 
 /// The section values of every landmark in `landmarks.planes` (same order) on `grid`.

@@ -6,9 +6,13 @@
 
 #include <fmt/format.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIntArray.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
@@ -43,6 +47,20 @@ VtuSeries::VtuSeries(const mesh::Mesh& mesh, std::filesystem::path directory, st
     cells->InsertNextCell(4, ids);
   }
   grid_->SetCells(VTK_TETRA, cells);
+  // Several volume regions (fluid and wall): each cell's region index, and the names in the
+  // field data, so that ParaView's Threshold and `tearflow analyze` can pick the fluid.
+  if (mesh.regions.size() > 1) {
+    auto region = vtkSmartPointer<vtkIntArray>::New();
+    region->SetName(kRegionArray);
+    region->SetNumberOfTuples(mesh.num_tets());
+    std::copy(mesh.tet_region.begin(), mesh.tet_region.end(), region->GetPointer(0));
+    grid_->GetCellData()->AddArray(region);
+    auto names = vtkSmartPointer<vtkStringArray>::New();
+    names->SetName(kRegionNamesArray);
+    for (const std::string& name : mesh.regions)
+      names->InsertNextValue(name);
+    grid_->GetFieldData()->AddArray(names);
+  }
 }
 
 VtuSeries::~VtuSeries() = default;

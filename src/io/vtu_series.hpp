@@ -14,6 +14,11 @@ class vtkUnstructuredGrid;
 
 namespace tearflow::io {
 
+/// Cell array of a multi-region mesh's VTU: each tet's index into the field-data string
+/// array kRegionNamesArray (Mesh::regions).
+inline constexpr const char* kRegionArray = "region";
+inline constexpr const char* kRegionNamesArray = "region_names";
+
 struct PointField {
   std::string name; ///< bare name (ParaView shows it); units are listed in docs/outputs.md
   int components = 1;

@@ -1,0 +1,25 @@
+#pragma once
+// `tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]`: the command-line edge of the
+// report pages (analysis/report.hpp, docs/analysis.md).
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace tearflow::analysis {
+
+class ReportCommand {
+public:
+  explicit ReportCommand(CLI::App& app); ///< registers `report` on app
+  bool selected() const { return command_->parsed(); }
+  /// Runs it; returns the exit code. InputError for bad input.
+  int run() const;
+
+private:
+  CLI::App* command_ = nullptr;
+  std::vector<std::string> run_dirs_;
+  std::string comparison_ = "comparison.html", chromium_ = "chromium";
+  bool png_ = false, quiet_ = false;
+};
+
+} // namespace tearflow::analysis
