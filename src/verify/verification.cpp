@@ -52,14 +52,16 @@ const std::map<std::string, VerificationCase>& verification_cases() {
         verify_uniaxial}},
       {"lame",
        {"thick cylinder under inner pressure, plane strain, nu = 0.3 and 0.49: radial "
-        "displacement against Lame (no locking)",
+        "displacement against Lame (no locking; St. Venant-Kirchhoff locks for contrast)",
         verify_lame}},
       {"robin",
        {"column on the spring-dashpot tissue support under a step load: settled "
-        "displacement, and faster settling with damping",
+        "displacement (also with the support's ambient pressure p_0), and faster settling "
+        "with damping",
         verify_robin}},
       {"energy",
-       {"undamped free axial oscillation of a bar, rho_inf = 1: total energy over 10 periods",
+       {"free axial oscillation of a bar over 10 periods: energy conserved with rho_inf = 1, "
+        "lost as the scheme predicts with rho_inf = 0.5",
         verify_energy}},
       {"inflation",
        {"compliant tube (FSI) under a slowly rising pressure: radius against thick-wall Lame",
