@@ -5,6 +5,7 @@
 //   tearflow tune CASE.yaml --targets TARGETS.yaml [-o TUNED.yaml]   (docs/tuning.md)
 //   tearflow analyze RUN_DIR [--landmarks FILE] [--cycle N | --frames all]   (docs/analysis.md)
 //   tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]                   (docs/analysis.md)
+//   tearflow study STUDY.yaml [--check]                                      (docs/study.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
@@ -26,6 +27,7 @@
 #include "run/default_case.hpp"
 #include "run/simulation.hpp"
 #include "run/solid_simulation.hpp"
+#include "study/study_command.hpp"
 #include "tuning/tune_command.hpp"
 #include "verify/verification.hpp"
 
@@ -137,6 +139,7 @@ int main(int argc, char** argv) {
   const tuning::TuneCommand tune_command(app);
   const analysis::AnalyzeCommand analyze_command(app);
   const analysis::ReportCommand report_command(app);
+  const study::StudyCommand study_command(app);
 
   int code = 0;
   try {
@@ -153,6 +156,8 @@ int main(int argc, char** argv) {
       code = analyze_command.run();
     if (report_command.selected() && fem::mpi_rank() == 0)
       code = report_command.run();
+    if (study_command.selected())
+      code = study_command.run();
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
   } catch (const InputError& e) {

@@ -91,6 +91,34 @@ json landmark_json(const Analysis& a, const LandmarkSeries& s) {
   return j;
 }
 
+/// What the analysed cycle achieved at the run's faces (cycles.json): the inflow face's
+/// (the one with the most negative net outflow) systolic, diastolic and mean pressure, and
+/// every outlet's flow split; what tuning aims at (docs/tuning.md).
+json achieved_json(const json& cycle) {
+  json out = json::object();
+  if (!cycle.is_object() || !cycle.contains("faces") || !cycle["faces"].is_object())
+    return out;
+  const json& faces = cycle["faces"];
+  std::string inlet;
+  double most_in = 0;
+  for (const auto& [name, f] : faces.items()) {
+    const json v = f.value("net_outflow_volume_m3", json(nullptr));
+    if (v.is_number() && v.get<double>() < most_in) {
+      most_in = v.get<double>();
+      inlet = name;
+    }
+    if (f.contains("flow_split_percent") && f["flow_split_percent"].is_number())
+      out["flow_split_percent"][name] = f["flow_split_percent"];
+  }
+  if (!inlet.empty()) {
+    out["inlet_face"] = inlet;
+    for (const char* q : {"systolic", "diastolic", "mean"})
+      out[fmt::format("inlet_{}_pressure_mmHg", q)] =
+          faces[inlet].value(fmt::format("{}_pressure_mmHg", q), json(nullptr));
+  }
+  return out;
+}
+
 } // namespace
 
 const LandmarkSeries* Analysis::find(const std::string& name) const {
@@ -100,7 +128,7 @@ const LandmarkSeries* Analysis::find(const std::string& name) const {
   return nullptr;
 }
 
-std::vector<FlowFrame> select_frames(const AnalyzeOptions& o, std::string& label) {
+std::vector<FlowFrame> select_frames(const AnalyzeOptions& o, std::string& label, json* cycle) {
   std::vector<FlowFrame> frames = read_pvd(o.run_dir / "flow.pvd");
   if (o.all_frames) {
     label = "all saved frames";
@@ -143,6 +171,8 @@ std::vector<FlowFrame> select_frames(const AnalyzeOptions& o, std::string& label
                 "analysis needs at least two (save frames more often: output.every)",
                 file.string(), number, t0, t1, frames.size());
   label = fmt::format("cycle {}", number);
+  if (cycle != nullptr)
+    *cycle = chosen;
   return frames;
 }
 
@@ -161,7 +191,7 @@ Analysis analyze_run(const AnalyzeOptions& o) {
       o.landmarks.empty() ? o.run_dir / "geometry" / "landmarks.json" : o.landmarks;
   const geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_file);
   Analysis a;
-  const std::vector<FlowFrame> frames = select_frames(o, a.frames);
+  const std::vector<FlowFrame> frames = select_frames(o, a.frames, &a.cycle);
   for (const geometry::Landmark& l : landmarks.planes)
     a.series.push_back({l, {}});
   for (const FlowFrame& f : frames) {
@@ -277,6 +307,8 @@ json metrics_json(const Analysis& a) {
     if (all_finite(area))
       j["AAo_min_to_max_dilation_percent"] = (std::sqrt(*hi / *lo) - 1.0) * 100.0;
   }
+  if (const json achieved = achieved_json(a.cycle); !achieved.empty())
+    j["achieved"] = achieved;
   j["landmarks"] = landmarks;
   j["stations"] = station_json;
   j["peak_systolic_pressure_over_inlet"] = normalised;

@@ -45,6 +45,9 @@ struct Analysis {
   std::vector<LandmarkSeries> series;
   std::size_t peak_systole = 0; ///< frame index
   std::size_t end_diastole = 0; ///< frame index (the first)
+  /// The analysed cycle's entry of the run's cycles.json (face pressures and flow splits);
+  /// null for every-frame analyses and measurements.
+  nlohmann::json cycle;
 
   /// The series of landmark `name`, nullptr if there is none.
   const LandmarkSeries* find(const std::string& name) const;
@@ -52,7 +55,9 @@ struct Analysis {
 
 /// The frames to analyse (cycle choice above); InputError naming cycles.json or the .pvd
 /// when there is no complete cycle, the chosen one does not exist or holds < 2 frames.
-std::vector<FlowFrame> select_frames(const AnalyzeOptions& options, std::string& label);
+/// `cycle`, when given, receives the chosen cycle's entry of cycles.json.
+std::vector<FlowFrame> select_frames(const AnalyzeOptions& options, std::string& label,
+                                     nlohmann::json* cycle = nullptr);
 
 /// Reads the frames and measures every landmark of each (see measure_landmarks); a folder of
 /// measurement tables instead of a run is read by read_measured (analysis/measured_data.hpp).

@@ -1,5 +1,6 @@
 #include "analysis/report.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -8,6 +9,8 @@
 #include <vtkBase64Utilities.h>
 
 #include "core/error.hpp"
+#include "core/units.hpp"
+#include "tuning/targets.hpp"
 
 namespace tearflow::analysis {
 
@@ -110,6 +113,25 @@ std::string headline_table(const std::vector<json>& runs) {
   // Several runs (variants, or a simulation and its measurement): each one's difference from
   // the first beside the values.
   auto name = [&](std::size_t i) { return escape_html(runs[i]["name"].get<std::string>()); };
+  // Tuning: the inlet pressures and flow splits the run achieved against its targets.
+  for (const char* q : {"systolic", "diastolic", "mean"}) {
+    const std::string key = fmt::format("inlet_{}_pressure_mmHg", q);
+    rows.push_back({fmt::format("inlet {} pressure, target [mmHg]", q), {"targets", key}});
+    rows.push_back({fmt::format("inlet {} pressure, achieved [mmHg]", q), {"achieved", key}});
+  }
+  std::vector<std::string> outlets;
+  for (const json& r : runs)
+    for (const char* block : {"targets", "achieved"})
+      if (r["metrics"].contains(block) && r["metrics"][block].contains("flow_split_percent"))
+        for (const auto& [face, value] : r["metrics"][block]["flow_split_percent"].items())
+          if (std::find(outlets.begin(), outlets.end(), face) == outlets.end())
+            outlets.push_back(face);
+  for (const std::string& face : outlets) {
+    rows.push_back(
+        {fmt::format("flow split {}, target [%]", face), {"targets", "flow_split_percent", face}});
+    rows.push_back({fmt::format("flow split {}, achieved [%]", face),
+                    {"achieved", "flow_split_percent", face}});
+  }
   std::string html = "<table><tr><th>quantity</th>";
   for (std::size_t i = 0; i < runs.size(); ++i)
     html += "<th>" + name(i) + "</th>";
@@ -175,6 +197,16 @@ json report_run_data(const std::filesystem::path& run_dir,
   json run{{"name", name}, {"metrics", metrics}, {"series", json::object()}};
   for (const auto& [landmark, values] : metrics["landmarks"].items())
     run["series"][landmark] = read_series(analysis_dir / (landmark + ".csv"));
+  // The tuning targets of a run made by `tearflow study` (docs/study.md), for the table.
+  if (const std::filesystem::path file = run_dir / "targets.yaml"; std::filesystem::exists(file)) {
+    const tuning::TuningTargets t = tuning::load_targets(file);
+    json& targets = run["metrics"]["targets"];
+    targets["inlet_systolic_pressure_mmHg"] = t.pressure.systolic / units::mmHg;
+    targets["inlet_diastolic_pressure_mmHg"] = t.pressure.diastolic / units::mmHg;
+    targets["inlet_mean_pressure_mmHg"] = t.pressure.mean / units::mmHg;
+    for (const tuning::OutletFraction& f : t.splits)
+      targets["flow_split_percent"][f.face] = 100.0 * f.fraction;
+  }
   return run;
 }
 

@@ -1,0 +1,50 @@
+#include "study/study_command.hpp"
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "fem/petsc.hpp"
+#include "geometry/geometry_command.hpp"
+#include "study/child_process.hpp"
+#include "study/study_runner.hpp"
+
+namespace tearflow::study {
+
+namespace {
+
+/// The long option names of `tearflow geometry tbad`, from its own registration, so that a
+/// study file is checked against exactly what the command accepts.
+std::vector<std::string> geometry_tbad_options() {
+  CLI::App app;
+  const geometry::GeometryCommand command(app);
+  std::vector<std::string> names;
+  for (const CLI::Option* o : app.get_subcommand("geometry")->get_subcommand("tbad")->get_options())
+    for (const std::string& name : o->get_lnames())
+      names.push_back(name);
+  return names;
+}
+
+} // namespace
+
+StudyCommand::StudyCommand(CLI::App& app) {
+  command_ = app.add_subcommand("study", "variants of a dissection model from geometry to "
+                                         "comparison report, resumable (docs/study.md)");
+  command_->add_option("study", file_, "study file (YAML)")->required();
+  command_->add_flag("--check", check_, "only read and check the study file");
+}
+
+int StudyCommand::run() const {
+  if (fem::mpi_size() > 1)
+    input_error("run `tearflow study` as one process: it starts its stages on the study "
+                "file's `ranks` itself");
+  const StudySpec spec = load_study(file_, geometry_tbad_options());
+  if (check_) {
+    fmt::print("study '{}': {} variant(s), case '{}', {} rank(s), output '{}'\n", spec.name,
+               spec.variants.size(), spec.case_file.string(), spec.ranks, spec.output.string());
+    return 0;
+  }
+  StudyRunner runner(spec, self_executable());
+  return runner.run();
+}
+
+} // namespace tearflow::study

@@ -1,0 +1,327 @@
+#include "study/study_runner.hpp"
+
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include "core/error.hpp"
+#include "core/units.hpp"
+#include "geometry/landmarks.hpp"
+#include "io/case_yaml.hpp"
+#include "io/vtu_series.hpp"
+#include "study/child_process.hpp"
+
+namespace tearflow::study {
+
+namespace {
+
+using nlohmann::json;
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::string minutes(double seconds) {
+  const int s = static_cast<int>(seconds + 0.5);
+  return s >= 3600 ? fmt::format("{}:{:02d}:{:02d}", s / 3600, s / 60 % 60, s % 60)
+                   : fmt::format("{}:{:02d}", s / 60, s % 60);
+}
+
+std::vector<std::string> words(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string w; in >> w;)
+    out.push_back(w);
+  return out;
+}
+
+json read_json(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in)
+    return nullptr;
+  try {
+    return json::parse(in);
+  } catch (const json::exception&) {
+    return nullptr;
+  }
+}
+
+/// A path written in the template case, made absolute so that the variant's case, written
+/// elsewhere, still finds it.
+void make_absolute(YAML::Node node, const std::filesystem::path& from) {
+  if (node && node.IsScalar() && std::filesystem::path(node.as<std::string>()).is_relative())
+    node = (from / node.as<std::string>()).lexically_normal().string();
+}
+
+std::string key_of(const std::string& variant, const std::string& stage) {
+  return variant.empty() ? stage : variant + "/" + stage;
+}
+
+} // namespace
+
+StudyRunner::StudyRunner(StudySpec spec, std::filesystem::path tearflow)
+    : spec_(std::move(spec)), tearflow_(std::move(tearflow)) {
+  std::filesystem::create_directories(spec_.output);
+  record_ = read_json(spec_.output / "study.json");
+  if (!record_.is_object() || !record_.contains("stages"))
+    record_ = json{{"study", spec_.file.string()}, {"stages", json::object()}};
+}
+
+std::filesystem::path StudyRunner::geometry_dir(const Variant& v) const {
+  return v.model ? *v.model : dir(v) / "geometry";
+}
+
+std::vector<StudyRunner::Stage> StudyRunner::stages() const {
+  std::vector<Stage> out;
+  for (const Variant& v : spec_.variants) {
+    if (!v.model)
+      out.push_back({&v, "geometry"});
+    if (given(v.targets))
+      out.push_back({&v, "tune"});
+    out.push_back({&v, "run"});
+    out.push_back({&v, "analyze"});
+  }
+  out.push_back({nullptr, "report"});
+  return out;
+}
+
+std::string StudyRunner::stage_fingerprint(const Stage& s) const {
+  if (s.variant != nullptr)
+    return fingerprint(spec_, *s.variant);
+  std::string all = spec_.png ? "png" : "";
+  for (const Variant& v : spec_.variants)
+    all += fingerprint(spec_, v);
+  return all;
+}
+
+bool StudyRunner::finished(const Stage& s) const {
+  const std::string key = key_of(s.variant ? s.variant->name : "", s.name);
+  const json& stages = record_["stages"];
+  return stages.contains(key) && stages[key].value("fingerprint", "") == stage_fingerprint(s);
+}
+
+void StudyRunner::record(const Stage& s, double seconds) {
+  record_["stages"][key_of(s.variant ? s.variant->name : "", s.name)] = {
+      {"fingerprint", stage_fingerprint(s)}, {"seconds", seconds}};
+  io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
+}
+
+void StudyRunner::forget_variant(const Variant& v) {
+  json& stages = record_["stages"];
+  for (auto it = stages.begin(); it != stages.end();)
+    it = it.key().rfind(v.name + "/", 0) == 0 ? stages.erase(it) : std::next(it);
+  stages.erase("report");
+  std::filesystem::remove_all(dir(v) / "run"); // no restart from another recipe's state
+  io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
+}
+
+void StudyRunner::write_case(const Variant& v) const {
+  std::filesystem::create_directories(dir(v));
+  YAML::Node root = YAML::Clone(io::parse_yaml_file(spec_.case_file));
+  const std::filesystem::path from = spec_.case_file.parent_path();
+  root["name"] = spec_.name + "-" + v.name;
+  for (const char* key : {"wall_file", "pipe"})
+    root["mesh"].remove(key);
+  root["mesh"]["file"] = (geometry_dir(v) / "mesh.msh").string();
+  root["mesh"]["units"] = "mm"; // the geometry commands write millimetres
+  for (YAML::Node list : {root["boundary_conditions"], root["solid"]["boundary_conditions"]})
+    for (YAML::Node item : list)
+      for (const char* key : {"flow", "pressure"})
+        if (item[key] && item[key].IsMap())
+          make_absolute(item[key]["file"], from);
+  if (given(spec_.time)) {
+    for (const char* key : {"steps", "end", "cycles", "periodicity"})
+      root["time"].remove(key);
+    for (const auto& entry : spec_.time)
+      root["time"][entry.first.as<std::string>()] = YAML::Clone(entry.second);
+  }
+  root["output"]["directory"] = (dir(v) / "run").string();
+  // Checkpoints are what an interrupted study continues from.
+  if (!root["output"]["checkpoint_every"] || root["output"]["checkpoint_every"].as<int>(0) <= 0)
+    root["output"]["checkpoint_every"] = 10;
+  YAML::Emitter out;
+  out << root;
+  io::write_file_atomically(dir(v) / "case.yaml",
+                            fmt::format("# Variant '{}' of study '{}' ({}), written by `tearflow "
+                                        "study` from '{}'.\n{}\n",
+                                        v.name, spec_.name, spec_.file.string(),
+                                        spec_.case_file.string(), out.c_str()));
+  if (given(v.targets)) {
+    YAML::Emitter t;
+    t << v.targets;
+    io::write_file_atomically(dir(v) / "targets.yaml", std::string(t.c_str()) + "\n");
+  }
+}
+
+std::vector<std::string> StudyRunner::command(const Stage& s) const {
+  const std::string self = tearflow_.string();
+  std::vector<std::string> parallel;
+  if (spec_.ranks > 1) {
+    std::string launcher = spec_.launcher;
+    launcher.replace(launcher.find("{ranks}"), 7, std::to_string(spec_.ranks));
+    parallel = words(launcher);
+  }
+  parallel.push_back(self);
+  if (s.variant == nullptr) {
+    std::vector<std::string> argv{self, "report"};
+    for (const Variant& v : spec_.variants)
+      argv.push_back((dir(v) / "run").string());
+    argv.insert(argv.end(), {"-o", (spec_.output / "report.html").string()});
+    if (spec_.png)
+      argv.push_back("--png");
+    return argv;
+  }
+  const Variant& v = *s.variant;
+  if (s.name == "geometry") {
+    std::vector<std::string> argv{self, "geometry", "tbad", "-o", geometry_dir(v).string()};
+    for (const auto& [option, value] : v.geometry) {
+      argv.push_back("--" + option);
+      for (const std::string& w : words(value))
+        argv.push_back(w);
+    }
+    return argv;
+  }
+  if (s.name == "tune") {
+    parallel.insert(parallel.end(),
+                    {"tune", (dir(v) / "case.yaml").string(), "--targets",
+                     (dir(v) / "targets.yaml").string(), "-o", (dir(v) / "tuned.yaml").string()});
+    return parallel;
+  }
+  if (s.name == "run") {
+    parallel.insert(parallel.end(),
+                    {"run", (dir(v) / (given(v.targets) ? "tuned.yaml" : "case.yaml")).string()});
+    if (std::filesystem::exists(dir(v) / "run" / "checkpoint.bin"))
+      parallel.push_back("--restart"); // an interrupted run continues
+    return parallel;
+  }
+  return {self, "analyze", (dir(v) / "run").string(), "--landmarks",
+          (geometry_dir(v) / "landmarks.json").string()};
+}
+
+int StudyRunner::execute(const Stage& s, const std::vector<std::string>& argv) {
+  const std::string label =
+      s.variant ? fmt::format("[{} {}] ", s.variant->name, s.name) : "[report] ";
+  std::ofstream log(spec_.output / "study.log", std::ios::app);
+  std::string line_of_command;
+  for (const std::string& a : argv)
+    line_of_command += (line_of_command.empty() ? "" : " ") + a;
+  log << label << "$ " << line_of_command << "\n";
+  return run_child(argv, spec_.output, [&](const std::string& line) {
+    fmt::print("{}{}\n", label, line);
+    std::fflush(stdout);
+    log << label << line << "\n";
+    log.flush();
+  });
+}
+
+void StudyRunner::progress(std::size_t index, std::size_t total) const {
+  // ETA: the remaining stages at the mean duration recorded for their kind.
+  const std::vector<Stage> all = stages();
+  std::map<std::string, std::pair<double, int>> spent; // stage kind -> (seconds, count)
+  for (const auto& [key, entry] : record_["stages"].items()) {
+    const std::string kind = key.substr(key.find('/') + 1);
+    spent[kind].first += entry.value("seconds", 0.0);
+    spent[kind].second += 1;
+  }
+  double eta = 0;
+  bool known = true;
+  for (std::size_t i = index; i < all.size(); ++i) {
+    if (finished(all[i]))
+      continue;
+    const auto it = spent.find(all[i].name);
+    if (it != spent.end())
+      eta += it->second.first / it->second.second;
+    else if (all[i].variant == nullptr)
+      eta += spec_.png ? 60.0 : 5.0; // the report: seconds, a minute with Chromium's figures
+    else
+      known = false;
+  }
+  const Stage& s = all[index];
+  fmt::print("study '{}': stage {}/{}: {}{} (elapsed {}, {})\n", spec_.name, index + 1, total,
+             s.variant ? s.variant->name + " " : "", s.name, minutes(now() - started_),
+             known ? "ETA " + minutes(eta) : std::string("ETA after the first variant"));
+  std::fflush(stdout);
+}
+
+int StudyRunner::run() {
+  started_ = now();
+  for (const Variant& v : spec_.variants) {
+    bool changed = false;
+    for (const auto& [key, entry] : record_["stages"].items())
+      changed = changed || (key.rfind(v.name + "/", 0) == 0 &&
+                            entry.value("fingerprint", "") != fingerprint(spec_, v));
+    if (changed) {
+      fmt::print("study '{}': variant {} changed since it ran (recipe, targets, case or time): "
+                 "running it again\n",
+                 spec_.name, v.name);
+      forget_variant(v);
+    }
+    write_case(v);
+  }
+  const std::vector<Stage> all = stages();
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const Stage& s = all[i];
+    if (finished(s))
+      continue;
+    progress(i, all.size());
+    const double t0 = now();
+    const int code = execute(s, command(s));
+    // `tune` exits with 1 when the targets are not met within the tolerances: the best
+    // outlets found are written and the study goes on (the report shows target vs achieved).
+    const bool not_met = s.name == "tune" && code == 1;
+    if (code != 0 && !not_met) {
+      fmt::print(stderr,
+                 "study '{}': {} {} failed (exit code {}); its output is in '{}'. Run the same "
+                 "command again to continue from there.\n",
+                 spec_.name, s.variant ? "variant " + s.variant->name + ":" : "", s.name, code,
+                 (spec_.output / "study.log").string());
+      return code;
+    }
+    if (not_met)
+      fmt::print("study '{}': {}: tuning targets not met within the tolerances; going on with "
+                 "the best outlets found (see '{}')\n",
+                 spec_.name, s.variant->name, (dir(*s.variant) / "tuned.yaml").string());
+    if (s.name == "analyze" && given(s.variant->targets)) // the report shows target vs achieved
+      std::filesystem::copy_file(dir(*s.variant) / "targets.yaml",
+                                 dir(*s.variant) / "run" / "targets.yaml",
+                                 std::filesystem::copy_options::overwrite_existing);
+    record(s, now() - t0);
+  }
+  write_summary();
+  fmt::print("study '{}' done in {}: report '{}', summary '{}'\n", spec_.name,
+             minutes(now() - started_), (spec_.output / "report.html").string(),
+             (spec_.output / "summary.json").string());
+  return 0;
+}
+
+void StudyRunner::write_summary() const {
+  json variants = json::object();
+  for (const Variant& v : spec_.variants) {
+    json entry;
+    const geometry::Landmarks landmarks =
+        geometry::read_landmarks(geometry_dir(v) / "landmarks.json");
+    for (const geometry::TearLandmark& t : landmarks.tears)
+      entry["tear_area_mm2"][t.name] = t.area / (units::mm * units::mm);
+    const json metrics = read_json(dir(v) / "run" / "analysis" / "metrics.json");
+    if (metrics.is_object()) {
+      for (const char* key :
+           {"frames", "stations", "pressure_drops", "AAo_min_to_max_dilation_percent", "achieved"})
+        if (metrics.contains(key))
+          entry[key] = metrics[key];
+    }
+    const json tuning = read_json(dir(v) / "tuned.tuning.json");
+    if (tuning.is_object())
+      entry["tuning"] = tuning;
+    variants[v.name] = entry;
+  }
+  io::write_file_atomically(
+      spec_.output / "summary.json",
+      json{{"study", spec_.name}, {"variants", variants}, {"stages", record_["stages"]}}.dump(2) +
+          "\n");
+}
+
+} // namespace tearflow::study
