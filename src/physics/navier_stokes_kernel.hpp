@@ -27,8 +27,10 @@
 //
 // tau_M and nu_C are computed from the velocity of the previous step (lagged): they are
 // then constant over the Newton iterations of a step, so the Jacobian below is the exact
-// derivative of the residual (checked by finite differences in the tests), and the
-// stabilized scheme stays consistent because r_M is the full strong residual.
+// derivative of the residual (checked by finite differences in the tests). r_M is the full
+// strong residual except for -mu Lap u, which P1 cannot represent (zero inside each
+// element): an O(tau_M) = O(h^2) inconsistency, the usual one of P1 stabilized methods;
+// the Poiseuille refinement study (mu Lap u = grad p there) still converges at rate ~1.9.
 //
 // All integrals are exact: every integrand is a polynomial of degree <= 2 on the element,
 // integrated with the P1 mass matrix M_ab = V/20 (1 + delta_ab).
