@@ -2,7 +2,9 @@
 // The mesh as one MPI rank sees it. Every rank holds the whole (replicated) input mesh, which
 // keeps readers simple and is affordable up to a few million tets; the nodes are
 // partitioned by PETSc's graph partitioner and renumbered so that each rank owns a
-// contiguous range of global node numbers. Each rank assembles the tets and face triangles
+// contiguous range of global node numbers, in reverse Cuthill-McKee order within it (a
+// tet's nodes get close numbers: cache-friendly assembly); local tets are ordered by their
+// lowest node. Each rank assembles the tets and face triangles
 // whose first node it owns, so it needs the values of some nodes owned by others: its
 // ghosts. Local node numbers: [0, n_owned) owned, [n_owned, n_local) ghosts.
 #include <string>

@@ -34,13 +34,16 @@ double interpolate(const mesh::Mesh& mesh, const PointLocation& at,
 
 std::pair<double, double> l2_error(const mesh::Mesh& mesh, const std::vector<double>& field,
                                    int block, int first, int count,
-                                   const std::function<Vec3(const Vec3&)>& exact) {
+                                   const std::function<Vec3(const Vec3&)>& exact,
+                                   const std::function<bool(const Vec3&)>& in_region) {
   // Degree-2 rule (Keast): four points with barycentric (a, b, b, b) and permutations.
   constexpr double a = 0.5854101966249685, b = 0.1381966011250105;
   double err2 = 0.0, norm2 = 0.0;
   for (const Tet& t : mesh.tets) {
     const std::array<Vec3, 4> x{mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]],
                                 mesh.points[t[3]]};
+    if (in_region && !in_region(0.25 * (x[0] + x[1] + x[2] + x[3])))
+      continue;
     const double w = std::abs(tet_geometry(x).volume) / 4.0;
     for (int q = 0; q < 4; ++q) {
       Vec3 xq{}, uh{};

@@ -21,10 +21,12 @@ std::optional<PointLocation> locate(const mesh::Mesh& mesh, const Vec3& p);
 double interpolate(const mesh::Mesh& mesh, const PointLocation& at,
                    const std::vector<double>& field, int block, int component);
 
-/// Returns {||v_h - v||_L2, ||v||_L2} over the mesh for the vector made of components
-/// [first, first + count) of `field`, with the 4-point degree-2 rule on every tet.
+/// Returns {||v_h - v||_L2, ||v||_L2} for the vector made of components [first, first +
+/// count) of `field`, with the 4-point degree-2 rule on every tet; over the whole mesh, or
+/// over the tets whose centroid satisfies `in_region` when it is given.
 std::pair<double, double> l2_error(const mesh::Mesh& mesh, const std::vector<double>& field,
                                    int block, int first, int count,
-                                   const std::function<Vec3(const Vec3&)>& exact);
+                                   const std::function<Vec3(const Vec3&)>& exact,
+                                   const std::function<bool(const Vec3&)>& in_region = {});
 
 } // namespace tearflow::fem

@@ -3,12 +3,20 @@
 // The inlet imposes the parabolic profile scaled to Q, the outlet zero traction. The steady
 // state is reached by generalized-alpha with rho_inf = 0 and a time step far above the
 // viscous time R^2/nu, so transients are annihilated in a few steps.
+//
+// Poiseuille flow does not satisfy the zero-traction outlet of the symmetric-gradient form:
+// its traction there is -p n + mu du_z/dr e_r, so the continuous solution departs from the
+// parabola within about R of the outlet, by an amount that does not shrink with h. All
+// metrics are therefore measured in the interior z in [L/4, 3L/4] (L/4 = 2R from each end),
+// where that departure has decayed: there the L2 error falls at rate ~1.9, over the whole
+// pipe at ~1.6 (docs/performance.md).
 #include <cmath>
 #include <numbers>
 
 #include <fmt/format.h>
 
 #include "fem/field_probe.hpp"
+#include "fem/p1_tet.hpp"
 #include "run/simulation.hpp"
 #include "verify/cases.hpp"
 
@@ -40,9 +48,18 @@ io::Case poiseuille_case(double element_size) {
 }
 
 struct PoiseuilleRun {
-  double size, centerline, pressure_drop, l2_relative;
+  double size;           ///< nominal element size given to the mesher [m]
+  double effective_size; ///< (V/N)^(1/3) of the mesh made [m]
+  double centerline, pressure_drop;
+  double l2_relative;     ///< interior z in [L/4, 3L/4]
+  double l2_relative_all; ///< whole pipe, outlet layer included
   int tets;
 };
+
+Vec3 exact_velocity(const Vec3& x) {
+  const double r2 = x[0] * x[0] + x[1] * x[1];
+  return Vec3{0.0, 0.0, 2.0 * Q / (std::numbers::pi * R * R) * (1.0 - r2 / (R * R))};
+}
 
 PoiseuilleRun run_poiseuille(double element_size, bool progress) {
   run::Simulation sim(poiseuille_case(element_size));
@@ -54,7 +71,11 @@ PoiseuilleRun run_poiseuille(double element_size, bool progress) {
   }
   const std::vector<double> U = sim.gather(sim.solver().solution());
   const mesh::Mesh& m = sim.mesh();
-  PoiseuilleRun out{element_size, 0, 0, 0, m.num_tets()};
+  double volume = 0.0;
+  for (const Tet& t : m.tets)
+    volume +=
+        fem::tet_geometry({m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]}).volume;
+  PoiseuilleRun out{element_size, std::cbrt(volume / m.num_tets()), 0, 0, 0, 0, m.num_tets()};
   const auto at = fem::locate(m, {0.0, 0.0, 0.5 * L});
   out.centerline = at ? fem::interpolate(m, *at, U, 4, 2) : NAN;
   // Pressure drop between two axis points a pipe diameter away from the ends: P1-P1 with
@@ -63,11 +84,12 @@ PoiseuilleRun run_poiseuille(double element_size, bool progress) {
   const auto a = fem::locate(m, {0.0, 0.0, 0.25 * L}), b = fem::locate(m, {0.0, 0.0, 0.75 * L});
   out.pressure_drop =
       (a && b) ? (fem::interpolate(m, *a, U, 4, 3) - fem::interpolate(m, *b, U, 4, 3)) / 0.5 : NAN;
-  const auto [err, norm] = fem::l2_error(m, U, 4, 0, 3, [](const Vec3& x) {
-    const double r2 = x[0] * x[0] + x[1] * x[1];
-    return Vec3{0.0, 0.0, 2.0 * Q / (std::numbers::pi * R * R) * (1.0 - r2 / (R * R))};
+  const auto [err, norm] = fem::l2_error(m, U, 4, 0, 3, exact_velocity, [](const Vec3& c) {
+    return c[2] >= 0.25 * L && c[2] <= 0.75 * L;
   });
   out.l2_relative = err / norm;
+  const auto [err_all, norm_all] = fem::l2_error(m, U, 4, 0, 3, exact_velocity);
+  out.l2_relative_all = err_all / norm_all;
   return out;
 }
 
@@ -104,31 +126,44 @@ VerificationResult verify_poiseuille(const VerifyOptions& options) {
                  {"centerline_velocity_exact_m_per_s", u_exact},
                  {"pressure_drop_Pa", run.pressure_drop},
                  {"pressure_drop_exact_Pa", dp_exact},
-                 {"l2_velocity_relative_error", run.l2_relative}};
+                 {"effective_element_size_m", run.effective_size},
+                 {"l2_velocity_relative_error", run.l2_relative},
+                 {"l2_velocity_relative_error_whole_pipe", run.l2_relative_all}};
 
   if (options.convergence) {
-    // Three meshes, each 1.5x finer; P1 gives rate 2 in L2. 1.7 allows for the meshes not
-    // being nested refinements (unstructured Gmsh meshes at each size).
+    // Three meshes, nominal sizes 1.5x apart. The rate is taken against the effective size
+    // h = (V/N)^(1/3) of the meshes actually made: Gmsh's unstructured meshes at each nominal
+    // size are not nested refinements and their tet counts grow by 3.0-3.3, not 1.5^3.
+    // P1 velocity converges at rate 2 in L2 (the parabola is not in the P1 space); the
+    // bound 1.7 leaves 0.3 for the mesh-to-mesh scatter of the error constant on
+    // non-nested meshes.
     std::vector<PoiseuilleRun> runs;
-    for (double f : {2.25, 1.5, 1.0})
+    for (double f : {2.25, 1.5})
       runs.push_back(run_poiseuille(h * f, options.progress));
+    runs.push_back(run); // the default mesh, run above
     nlohmann::json study = nlohmann::json::array();
     double worst_rate = 1e9;
     for (size_t i = 0; i < runs.size(); ++i) {
       nlohmann::json row = {{"element_size_m", runs[i].size},
+                            {"effective_element_size_m", runs[i].effective_size},
                             {"tets", runs[i].tets},
-                            {"l2_velocity_relative_error", runs[i].l2_relative}};
+                            {"l2_velocity_relative_error", runs[i].l2_relative},
+                            {"l2_velocity_relative_error_whole_pipe", runs[i].l2_relative_all}};
       if (i > 0) {
         const double rate = std::log(runs[i - 1].l2_relative / runs[i].l2_relative) /
-                            std::log(runs[i - 1].size / runs[i].size);
+                            std::log(runs[i - 1].effective_size / runs[i].effective_size);
         row["rate"] = rate;
+        row["rate_whole_pipe"] = std::log(runs[i - 1].l2_relative_all / runs[i].l2_relative_all) /
+                                 std::log(runs[i - 1].effective_size / runs[i].effective_size);
         worst_rate = std::min(worst_rate, rate);
       }
       study.push_back(row);
     }
     res.details["convergence"] = study;
     res.metrics.push_back({"l2_rate_shortfall", 2.0 - worst_rate, 0.3,
-                           "2 - (lowest observed L2 rate over three meshes); P1 is second order"});
+                           "2 - (lowest observed rate of the interior (z in [L/4, 3L/4]) L2 "
+                           "velocity error against h = (V/N)^(1/3), three meshes); P1 is second "
+                           "order"});
   }
   return res;
 }
