@@ -297,6 +297,23 @@ TEST(GeometryImport, SimVascularMeshSurfacesAreMeshedWithAWall) {
     EXPECT_GT(q.min_quality, 0.05) << q.name;
 }
 
+// Two tets sharing a face have 9 distinct edges, not 12: three of length 1 and six of
+// sqrt(2) here, so the mean is (3 + 6 sqrt 2) / 9 exactly.
+TEST(GeometryReport, EdgeLengthsCountSharedEdgesOnce) {
+  mesh::Mesh m;
+  m.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  m.tets = {{0, 1, 2, 3}, {1, 2, 3, 4}};
+  m.tet_region = {0, 0};
+  m.regions = {"fluid"};
+  const std::vector<EdgeLengths> e = edge_lengths(m);
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0].edges, 9u);
+  const double s2 = std::sqrt(2.0);
+  EXPECT_DOUBLE_EQ(e[0].mean, (3 + 6 * s2) / 9);
+  EXPECT_DOUBLE_EQ(e[0].median, s2);
+  EXPECT_DOUBLE_EQ(e[0].max, s2);
+}
+
 int run(const std::string& command) {
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
