@@ -40,7 +40,7 @@ FaceSet read_face_set(const std::filesystem::path& path, const std::string& what
 /// between the lumen face called `interface` and the wall's faces (its outer surface and
 /// the rings at the caps; a wall face that repeats lumen triangles, such as SimVascular's
 /// wall_inner, is dropped). With `remesh`, the input triangulations are classified into
-/// patches (sharp edges above 40 degrees and the faces' borders kept), reparametrized and
+/// patches (sharp edges above 25 degrees and the faces' borders kept), reparametrized and
 /// remeshed with edges of about `element_size` [m]; without, their triangles are the
 /// mesh's boundary. The volumes are meshed by Delaunay (elements at most `element_size`).
 /// Faces keep their names; the fluid-wall face is `interface`. InputError when the lumen
