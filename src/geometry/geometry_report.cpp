@@ -1,5 +1,6 @@
 #include "geometry/geometry_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -21,9 +22,42 @@ double triangle_area(const mesh::Mesh& m, const Tri& t) {
 
 } // namespace
 
+std::vector<EdgeLengths> edge_lengths(const mesh::Mesh& mesh) {
+  std::vector<EdgeLengths> out;
+  for (std::size_t r = 0; r < mesh.regions.size(); ++r) {
+    std::vector<std::pair<Index, Index>> edges;
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+      if (mesh.tet_region[t] == static_cast<int>(r))
+        for (int i = 0; i < 4; ++i)
+          for (int j = i + 1; j < 4; ++j)
+            edges.push_back(std::minmax(mesh.tets[t][i], mesh.tets[t][j]));
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    EdgeLengths e{mesh.regions[r], edges.size()};
+    if (edges.empty()) {
+      out.push_back(e);
+      continue;
+    }
+    std::vector<double> len;
+    len.reserve(edges.size());
+    for (const auto& [a, b] : edges) {
+      const Vec3 d = mesh.points[b] - mesh.points[a];
+      len.push_back(std::sqrt(dot(d, d)));
+      e.mean += len.back() / static_cast<double>(edges.size());
+    }
+    std::sort(len.begin(), len.end());
+    e.median = len[len.size() / 2];
+    e.p95 = len[len.size() * 95 / 100];
+    e.max = len.back();
+    out.push_back(e);
+  }
+  return out;
+}
+
 GeometryReport measure_geometry(const mesh::Mesh& mesh, const Landmarks& landmarks) {
   GeometryReport r;
   r.quality = check_fsi_mesh(mesh);
+  r.edges = edge_lengths(mesh);
   r.nodes = static_cast<std::size_t>(mesh.num_nodes());
   for (const mesh::Face& f : mesh.faces) {
     double a = 0;
@@ -44,6 +78,10 @@ std::string format_report(const GeometryReport& r) {
     s += fmt::format("  {:<8} {:>9} tets  volume {:9.1f} mm^3  quality (3 r_in/r_circ) min {:.3f} "
                      "mean {:.3f}, {} below 0.1\n",
                      q.name, q.tets, q.volume * 1e9, q.min_quality, q.mean_quality, q.below_0_1);
+  for (const EdgeLengths& e : r.edges)
+    s += fmt::format("  {:<8} {:>9} edges, length (mm) mean {:.2f} median {:.2f} 95 % {:.2f} "
+                     "max {:.2f}\n",
+                     e.region, e.edges, e.mean * 1e3, e.median * 1e3, e.p95 * 1e3, e.max * 1e3);
   if (r.quality.interface_triangles)
     s += fmt::format("  interface: {} triangles, {} nodes shared by fluid and wall\n",
                      r.quality.interface_triangles, r.quality.interface_nodes);
@@ -65,13 +103,24 @@ std::string report_json(const GeometryReport& r) {
   using nlohmann::json;
   json regions = json::array(), faces = json::object(), tears = json::array(),
        areas = json::object();
-  for (const RegionQuality& q : r.quality.regions)
-    regions.push_back({{"name", q.name},
-                       {"tets", q.tets},
-                       {"volume_m3", q.volume},
-                       {"min_quality", q.min_quality},
-                       {"mean_quality", q.mean_quality},
-                       {"tets_below_0.1", q.below_0_1}});
+  for (std::size_t i = 0; i < r.quality.regions.size(); ++i) {
+    const RegionQuality& q = r.quality.regions[i];
+    json region{{"name", q.name},
+                {"tets", q.tets},
+                {"volume_m3", q.volume},
+                {"min_quality", q.min_quality},
+                {"mean_quality", q.mean_quality},
+                {"tets_below_0.1", q.below_0_1}};
+    if (i < r.edges.size()) {
+      const EdgeLengths& e = r.edges[i];
+      region["edges"] = e.edges;
+      region["edge_length_mean_m"] = e.mean;
+      region["edge_length_median_m"] = e.median;
+      region["edge_length_p95_m"] = e.p95;
+      region["edge_length_max_m"] = e.max;
+    }
+    regions.push_back(region);
+  }
   for (const auto& [name, a] : r.face_areas)
     faces[name] = a;
   for (const MeasuredTear& t : r.tears)

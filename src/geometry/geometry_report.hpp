@@ -18,8 +18,20 @@ struct MeasuredTear {
   double requested = 0, measured = 0; ///< [m^2]
 };
 
+/// Lengths of the distinct edges of one region's tets [m]: how a mesher's "element size"
+/// came out (Gmsh's target size is close to the mean; other meshers' sizes are maxima).
+struct EdgeLengths {
+  std::string region;
+  std::size_t edges = 0;
+  double mean = 0, median = 0, p95 = 0, max = 0;
+};
+
+/// Edge lengths per region of `mesh`.
+std::vector<EdgeLengths> edge_lengths(const mesh::Mesh& mesh);
+
 struct GeometryReport {
   MeshReport quality;
+  std::vector<EdgeLengths> edges;
   std::size_t nodes = 0;
   std::vector<std::pair<std::string, double>> face_areas; ///< [m^2]
   std::vector<MeasuredTear> tears;

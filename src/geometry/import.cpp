@@ -1,6 +1,7 @@
-// Import of a user's model: a finished mesh (Gmsh or SimVascular) or closed lumen and wall
-// surfaces (STL or VTP), with a landmarks file; checked, then written in the same layout as
-// `geometry tbad` (mesh.msh in mm, landmarks.json in mm).
+// Import of a user's model: a finished mesh (Gmsh or SimVascular) or lumen and wall
+// surfaces given face by face (STL or VTP, meshed by geometry/surface_mesher), with a
+// landmarks file; checked, then written in the same layout as `geometry tbad` (mesh.msh in
+// mm, landmarks.json in mm).
 #include "geometry/import.hpp"
 
 #include <algorithm>
@@ -10,20 +11,11 @@
 #include <set>
 #include <system_error>
 
-#include <vtkCellArray.h>
-#include <vtkCleanPolyData.h>
-#include <vtkIdList.h>
-#include <vtkNew.h>
-#include <vtkPolyData.h>
-#include <vtkSTLReader.h>
-#include <vtkSmartPointer.h>
-#include <vtkTriangleFilter.h>
-#include <vtkXMLPolyDataReader.h>
-
 #include "core/error.hpp"
 #include "geometry/fsi_mesh.hpp"
 #include "geometry/landmarks.hpp"
 #include "geometry/sections.hpp"
+#include "geometry/surface_mesher.hpp"
 #include "geometry/tbad_builder.hpp"
 #include "mesh/readers.hpp"
 
@@ -32,91 +24,6 @@ namespace tearflow::geometry {
 namespace fs = std::filesystem;
 
 namespace {
-
-// A closed surface as triangles on merged points (VTK's cleaner merges coincident points, so
-// an STL's per-triangle vertices become shared).
-struct Surface {
-  std::vector<Vec3> points;
-  std::vector<Tri> triangles;
-};
-
-Surface read_surface(const fs::path& file, double scale, const std::string& what) {
-  const std::string src = fmt::format("{} surface '{}'", what, file.string());
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec))
-    input_error("{}: no such file", src);
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  vtkSmartPointer<vtkPolyData> raw;
-  if (ext == ".stl") {
-    vtkNew<vtkSTLReader> r;
-    r->SetFileName(file.c_str());
-    r->Update();
-    raw = r->GetOutput();
-  } else if (ext == ".vtp") {
-    vtkNew<vtkXMLPolyDataReader> r;
-    r->SetFileName(file.c_str());
-    r->Update();
-    raw = r->GetOutput();
-  } else {
-    input_error("{}: unknown format '{}', expected .stl or .vtp", src, ext);
-  }
-  vtkNew<vtkTriangleFilter> tri;
-  tri->SetInputData(raw);
-  vtkNew<vtkCleanPolyData> clean;
-  clean->SetInputConnection(tri->GetOutputPort());
-  clean->SetTolerance(0.0);
-  clean->Update();
-  vtkPolyData* pd = clean->GetOutput();
-  if (pd->GetNumberOfPolys() == 0)
-    input_error("{}: no triangles (unreadable or empty file)", src);
-  Surface s;
-  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i) {
-    double p[3];
-    pd->GetPoint(i, p);
-    s.points.push_back({p[0] * scale, p[1] * scale, p[2] * scale});
-  }
-  vtkNew<vtkIdList> ids;
-  vtkCellArray* polys = pd->GetPolys();
-  polys->InitTraversal();
-  while (polys->GetNextCell(ids))
-    if (ids->GetNumberOfIds() == 3)
-      s.triangles.push_back({static_cast<Index>(ids->GetId(0)), static_cast<Index>(ids->GetId(1)),
-                             static_cast<Index>(ids->GetId(2))});
-  return s;
-}
-
-// Watertight and consistently oriented: every edge is used by exactly two triangles, once
-// in each direction.
-void check_watertight(const Surface& s, const std::string& src) {
-  std::map<std::pair<Index, Index>, int> directed;
-  for (const Tri& t : s.triangles)
-    for (int i = 0; i < 3; ++i)
-      ++directed[{t[i], t[(i + 1) % 3]}];
-  std::size_t open = 0, wrong = 0;
-  std::pair<Index, Index> first_open{-1, -1};
-  for (const auto& [e, n] : directed) {
-    const auto back = directed.find({e.second, e.first});
-    const int m = back == directed.end() ? 0 : back->second;
-    if (n + m != 2) {
-      if (open++ == 0)
-        first_open = e;
-    } else if (n != 1) {
-      ++wrong;
-    }
-  }
-  if (open > 0) {
-    const Vec3 p = s.points[first_open.first];
-    input_error("{} is not watertight: {} edges are not shared by exactly two triangles (holes "
-                "or non-manifold edges), e.g. at ({:.2f}, {:.2f}, {:.2f}) mm; close the surface "
-                "(cap every inlet and outlet)",
-                src, open, p[0] * 1e3, p[1] * 1e3, p[2] * 1e3);
-  }
-  if (wrong > 0)
-    input_error("{}: {} edges join triangles of opposite orientation; orient the surface "
-                "consistently",
-                src, wrong / 2);
-}
 
 // Writes a mesh as Gmsh MSH 2.2 (ASCII), coordinates in mm, one physical group per region
 // and per face: the format read_gmsh and read_fsi_mesh read back.
@@ -314,27 +221,31 @@ void import_geometry(const ImportOptions& o, const fs::path& dir) {
     input_error("import: --landmarks is required");
   const bool surfaces = !o.lumen.empty() || !o.wall.empty();
   if (surfaces == !o.mesh.empty())
-    input_error("import: give either --mesh or both --lumen and --wall");
-  if (surfaces && (o.lumen.empty() || o.wall.empty()))
-    input_error("import: --lumen and --wall go together");
+    input_error("import: give either --mesh or --lumen (with --wall for a wall)");
+  if (surfaces && o.lumen.empty())
+    input_error("import: --wall needs --lumen");
   const Landmarks landmarks = read_landmarks(o.landmarks);
   mesh::Mesh m;
   if (surfaces) {
-    const Surface lumen = read_surface(o.lumen, o.length_scale, "lumen");
-    check_watertight(lumen, fmt::format("lumen surface '{}'", o.lumen.string()));
-    const Surface wall = read_surface(o.wall, o.length_scale, "wall");
-    check_watertight(wall, fmt::format("wall surface '{}'", o.wall.string()));
-    // Both surfaces are sound; turning them into a conforming fluid-wall mesh with named
-    // caps is not done yet (see docs/geometry.md).
-    input_error("import: the lumen and wall surfaces are closed, but meshing imported surfaces "
-                "is not implemented yet; mesh them (regions fluid and wall, named faces) and "
-                "import the mesh with --mesh");
+    const FaceSet lumen = read_face_set(o.lumen, "lumen", o.length_scale, o.rename_faces);
+    FaceSet wall{"wall", o.wall, {}};
+    if (!o.wall.empty())
+      wall = read_face_set(o.wall, "wall", o.length_scale, o.rename_faces);
+    for (const auto& [from, to] : o.rename_faces) {
+      bool found = false;
+      for (const FaceSet* set : {&lumen, static_cast<const FaceSet*>(&wall)})
+        for (const FaceSurface& f : set->faces)
+          found = found || f.file.stem() == from;
+      if (!found)
+        input_error("import: --face {}={}: no face file is called '{}'", from, to, from);
+    }
+    m = mesh_face_sets(lumen, wall, o.element_size, o.remesh_surfaces, o.verbose);
   } else {
     m = read_volume_mesh(o.mesh, o.length_scale, "fluid");
     if (!o.wall_mesh.empty())
       m = merge_fluid_and_wall(std::move(m), read_volume_mesh(o.wall_mesh, o.length_scale, "wall"));
+    rename_faces(m, o.rename_faces);
   }
-  rename_faces(m, o.rename_faces);
   check_fsi_mesh(m);
   check_fluid_boundary_named(m);
   check_landmarks(m, landmarks);

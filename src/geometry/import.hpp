@@ -18,17 +18,22 @@ struct ImportOptions {
   std::filesystem::path wall_mesh;
   /// Face renames (old, new), e.g. {"lumen_inlet", "inlet"}, {"lumen_wall", "interface"}.
   std::vector<std::pair<std::string, std::string>> rename_faces;
-  /// Closed lumen and outer-wall surfaces (STL or VTP). Checked (watertight, consistently
-  /// oriented); meshing them is not implemented yet.
+  /// Or surfaces, one STL or VTP file per named face (a directory of them, or one file):
+  /// the lumen's faces (caps and lumen wall) and optionally the wall's (outer surface and
+  /// rings at the caps), meshed by mesh_face_sets (geometry/surface_mesher.hpp).
   std::filesystem::path lumen, wall;
   std::filesystem::path landmarks; ///< landmarks JSON (required)
   double length_scale = 1e-3;      ///< metres per input length unit (mm by default)
   double element_size = 3e-3;      ///< for surfaces [m]
+  /// Surfaces: remesh them with element_size (true), or keep their triangles as the mesh's
+  /// boundary and mesh only the volumes (false).
+  bool remesh_surfaces = true;
+  bool verbose = false; ///< Gmsh's progress, for surfaces
 };
 
-/// Checks and converts; writes DIR/mesh.msh (mm) and DIR/landmarks.json. InputError for a
-/// surface that is not watertight, a mesh whose named faces do not close the fluid (or lack
-/// inlet and outlet), landmarks outside the fluid.
+/// Checks and converts (meshes surfaces); writes DIR/mesh.msh (mm) and DIR/landmarks.json.
+/// InputError for surfaces that do not close the fluid or the wall, a mesh whose named faces do not
+/// close the fluid (or lack inlet and outlet), landmarks outside the fluid.
 void import_geometry(const ImportOptions& options, const std::filesystem::path& dir);
 
 } // namespace tearflow::geometry
