@@ -47,8 +47,9 @@
 //
 // Status (open, issue 10): centroid speed 6.78 m/s at (2 mm, 33 us), 4.96 at (1.5 mm, 25 us),
 // 4.40 at (1.05 mm, 17.5 us); every other measure falls alike under refinement, so the
-// 1.5 mm level passes and --convergence fails. The discrete long-wave speed itself moves
-// with the resolution; not yet understood (docs/performance.md).
+// 1.5 mm level passes and --convergence fails. At h 1.5 mm, dt 35 / 25 / 17.5 us give 4.70 /
+// 4.96 / 5.49 m/s with more damping at the smaller steps: the stabilization's tau_M ~ dt / 2,
+// not the integrator, sets the discrete long-wave speed (docs/performance.md).
 //
 // With -o DIR the run writes the pressure along the axis over time, DIR/pulse_axis_*.csv
 // (cross-section mean pressure every 2.5 mm at every step), so the pulse visibly travels.
