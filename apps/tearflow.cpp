@@ -69,7 +69,7 @@ int run_command(const std::string& case_file, bool restart, const std::string& o
 }
 
 int verify_command(const std::string& name, bool list, bool convergence, double coarsening,
-                   bool progress) {
+                   bool progress, const std::string& output) {
   const auto& cases = verify::verification_cases();
   const bool root = fem::mpi_rank() == 0;
   if (list || name.empty()) {
@@ -85,7 +85,7 @@ int verify_command(const std::string& name, bool list, bool convergence, double 
       known += " " + n;
     input_error("no verification case '{}'; known:{}", name, known);
   }
-  const verify::VerificationResult r = it->second.run({convergence, progress, coarsening});
+  const verify::VerificationResult r = it->second.run({convergence, progress, coarsening, output});
   if (root)
     fmt::print("{}\n", r.to_json().dump(2));
   return r.passed() ? 0 : 1;
@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
   verify->add_option("--coarsen", coarsening, "mesh size factor (> 1 coarser; CI's reduced form)")
       ->check(CLI::Range(0.25, 8.0));
   verify->add_flag("--progress", progress, "progress lines on stderr");
+  verify->add_option("-o,--output", output, "directory for the case's time series (CSV)");
   const geometry::GeometryCommand geometry_command(app);
   const tuning::TuneCommand tune_command(app);
   const analysis::AnalyzeCommand analyze_command(app);
@@ -147,7 +148,7 @@ int main(int argc, char** argv) {
     if (*run)
       code = run_command(case_file, restart, output, quiet, cli_petsc, steps);
     if (*verify)
-      code = verify_command(verify_name, list, convergence, coarsening, progress);
+      code = verify_command(verify_name, list, convergence, coarsening, progress, output);
     if (geometry_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
       code = geometry_command.run();
     if (tune_command.selected())

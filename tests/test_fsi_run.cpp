@@ -3,7 +3,9 @@
 //  - the outputs exist, the frames carry the displacement, and the inlet pressure pushes
 //    fluid into the tube while the wall bulges near the inlet;
 //  - 2 MPI ranks give the serial result to solver tolerance;
-//  - a run restarted from its checkpoint continues the uninterrupted one.
+//  - a run restarted from its checkpoint continues the uninterrupted one;
+//  - a run whose wall is overloaded (tube_diverges.yaml) stops with a message that says what
+//    failed, where and in which step, and a non-zero exit.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -99,4 +101,16 @@ TEST(FsiRun, RestartContinuesTheRun) {
   // The checkpoint holds velocity, pressures, acceleration, displacement and the outlets;
   // only the lagged preconditioner starts afresh: solver tolerance, not bit for bit.
   expect_same(read_faces(whole), read_faces(split), 1e-5);
+}
+
+TEST(FsiRun, OverloadedWallStopsWithAClearMessage) {
+  const fs::path out = fresh_dir("fsi-diverges");
+  const auto r =
+      run_tearflow("run " + (tearflow::testing::test_data / "fsi/tube_diverges.yaml").string() +
+                   " -q -o " + out.string());
+  EXPECT_EQ(r.code, 3) << r.output; // SolverError
+  EXPECT_THAT(r.output, HasSubstr("Newton failed in the step from t ="));
+  EXPECT_THAT(r.output, HasSubstr("mesh inverted: a tet near"));
+  EXPECT_THAT(r.output, HasSubstr("(step "));
+  EXPECT_TRUE(fs::exists(out / "faces.csv")); // the steps before the failure are recorded
 }

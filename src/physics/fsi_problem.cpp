@@ -127,6 +127,7 @@ void FsiProblem::move_fluid_mesh(Vec U) {
         d_next_[l][c] = dn[i] + dt_ * vn[i] + dt_ * dt_ * ((0.5 - beta) * an[i] + beta * a1);
       }
     mesh_.solve(d_next_, d_next_);
+    check_mesh();
     const auto& X = dmesh_.points();
     for (Index l = 0; l < dmesh_.num_local(); ++l)
       for (int c = 0; c < 3; ++c) {
@@ -136,6 +137,42 @@ void FsiProblem::move_fluid_mesh(Vec U) {
       }
   }
   fluid_.move_mesh(x, w);
+}
+
+void FsiProblem::check_mesh() const {
+  // The smallest tet volume at X + d_{n+1} relative to its reference volume, and where: the
+  // fluid's (mesh motion) and the wall's (a Neo-Hookean wall with J <= 0 has no energy).
+  struct {
+    double ratio;
+    int rank;
+  } worst{1.0, 0};
+  bool in_wall = false;
+  MPI_Comm_rank(dmesh_.comm(), &worst.rank);
+  Vec3 where{};
+  const auto& X = dmesh_.points();
+  const auto& tets = dmesh_.tets();
+  for (size_t e = 0; e < tets.size(); ++e) {
+    const Tet& t = tets[e];
+    const auto x = [&](int k) { return X[t[k]] + d_next_[t[k]]; };
+    const double ratio = mesh::signed_volume(x(0), x(1), x(2), x(3)) /
+                         mesh::signed_volume(X[t[0]], X[t[1]], X[t[2]], X[t[3]]);
+    if (ratio < worst.ratio) {
+      worst.ratio = ratio;
+      where = 0.25 * (X[t[0]] + X[t[1]] + X[t[2]] + X[t[3]]);
+      in_wall = dmesh_.tet_region()[e] != regions_.fluid;
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MINLOC, dmesh_.comm());
+  if (worst.ratio > 0.0)
+    return;
+  std::array<double, 4> info{where[0], where[1], where[2], in_wall ? 1.0 : 0.0};
+  MPI_Bcast(info.data(), 4, MPI_DOUBLE, worst.rank, dmesh_.comm());
+  throw SolverError(fmt::format(
+      "the {} mesh inverted: a tet near ({:.4g}, {:.4g}, {:.4g}) m (reference position) has "
+      "volume {:.3g} times its reference volume at the end of the step; the wall moved too far "
+      "in one step (reduce the time step or the load, or check the wall's material and "
+      "supports)",
+      info[3] > 0.5 ? "wall" : "moving fluid", info[0], info[1], info[2], worst.ratio));
 }
 
 void FsiProblem::residual(Vec U, Vec R) {

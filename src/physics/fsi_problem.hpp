@@ -73,6 +73,9 @@ private:
   /// d_{n+1} on every local node from U (wall Newmark, mesh motion) and the fluid on
   /// x_{n+af} with its mesh velocity.
   void move_fluid_mesh(Vec U);
+  /// Throws SolverError, on every rank, if a fluid or wall tet has non-positive volume on
+  /// X + d_{n+1} (collective).
+  void check_mesh() const;
   /// The fluid on X + D (local block-5 vector), at rest.
   void place_fluid(Vec D_loc);
 

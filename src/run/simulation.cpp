@@ -331,7 +331,8 @@ RunSummary Simulation::run(const RunOptions& options) {
     } catch (const SolverError& e) {
       write_record();
       throw SolverError(fmt::format("{} (step {}). {}", e.what(), step_ + 1,
-                                    case_.output.checkpoint_every > 0 && options.write_output
+                                    case_.output.checkpoint_every > 0 && options.write_output &&
+                                            std::filesystem::exists(checkpoint_file)
                                         ? "The last good checkpoint is kept in '" +
                                               checkpoint_file.string() + "'."
                                         : "No checkpoint was written."));

@@ -70,17 +70,26 @@ VerificationResult verify_inflation(const VerifyOptions& options) {
   const int steps = static_cast<int>(std::round(t_end / dt));
   double hold_sum = 0.0, pressure_sum = 0.0;
   int hold_samples = 0, newton_max = 0;
-  // Volume balance: V_{n+1} - V_n against -dt (Q_n + Q_{n+1}) / 2, Q the caps' outflow.
+  // Volume balance: V_{n+1} - V_n against -dt (Q_n + Q_{n+1}) / 2, Q the caps' outflow,
+  // judged at every step against that step's own flux. The flux passes through zero at the
+  // start (from rest) and at each turn of the breathing oscillation during the hold, where a
+  // ratio to the step's own flux measures only round-off and the start-up of the scheme
+  // from a zero acceleration; there the step is judged against a floor, kFluxFloor of the
+  // run's largest step flux, so that an error of 1 % of the floor (5e-4 of the peak) fails.
+  // Measured (--coarsen 1.5): worst 0.60 % (step 2, flux 2.9 % of the peak, against the
+  // floor); worst 0.38 % among the 54 of 60 steps above the floor, about 0.3 % with the
+  // flux's sign through the hold (trapezoidal flux against the scheme's own time levels);
+  // step 1, the start from rest with 0.4 % of the peak flux, reads 2.1 % of its own flux.
+  constexpr double kFluxFloor = 0.05;
   double volume = tube.problem().fluid_volume(), outflow = 0.0;
-  double balance_error = 0.0, largest_change = 0.0;
+  std::vector<double> changes, expectations;
   nlohmann::json history = nlohmann::json::array();
   for (int s = 0; s < steps; ++s) {
     const physics::StepReport r = tube.advance(dt);
     newton_max = std::max(newton_max, r.newton_iterations);
     const double volume_next = tube.problem().fluid_volume(), outflow_next = tube.cap_outflow();
-    const double change = volume_next - volume, expected = -0.5 * dt * (outflow + outflow_next);
-    balance_error = std::max(balance_error, std::abs(change - expected));
-    largest_change = std::max(largest_change, std::abs(change));
+    changes.push_back(volume_next - volume);
+    expectations.push_back(-0.5 * dt * (outflow + outflow_next));
     volume = volume_next;
     outflow = outflow_next;
     const double u = tube.mean_radial_displacement(L / 3.0, 2.0 * L / 3.0);
@@ -90,7 +99,11 @@ VerificationResult verify_inflation(const VerifyOptions& options) {
       pressure_sum += p;
       ++hold_samples;
     }
-    history.push_back({{"t_s", tube.time()}, {"u_r_m", u}, {"p_Pa", p}});
+    history.push_back({{"t_s", tube.time()},
+                       {"u_r_m", u},
+                       {"p_Pa", p},
+                       {"volume_change_m3", changes.back()},
+                       {"net_inflow_dt_m3", expectations.back()}});
     if (options.progress)
       fmt::print(stderr,
                  "inflation: t = {:.4f} s u_r = {:.4e} m p = {:.2f} Pa Newton {} KSP {} "
@@ -99,17 +112,40 @@ VerificationResult verify_inflation(const VerifyOptions& options) {
                  tube.problem().mesh_iterations());
   }
   const double u_mean = hold_sum / hold_samples;
+  double largest_flux = 0.0; // [m^3 per step]
+  for (double e : expectations)
+    largest_flux = std::max(largest_flux, std::abs(e));
+  double balance_error = 0.0, balance_error_above_floor = 0.0;
+  int worst_step = 0, steps_above_floor = 0;
+  for (size_t s = 0; s < changes.size(); ++s) {
+    const double flux = std::abs(expectations[s]);
+    const double e =
+        std::abs(changes[s] - expectations[s]) / std::max(flux, kFluxFloor * largest_flux);
+    if (e > balance_error) {
+      balance_error = e;
+      worst_step = static_cast<int>(s) + 1;
+    }
+    if (flux >= kFluxFloor * largest_flux) {
+      balance_error_above_floor = std::max(balance_error_above_floor, e);
+      ++steps_above_floor;
+    }
+  }
   VerificationResult res;
   res.name = "inflation";
   res.metrics.push_back(
-      {"volume_balance_error", balance_error / largest_change, 0.01,
-       "max over steps of |dV - dt (Q_in - Q_out)| / max |dV|: the fluid volume follows the "
-       "caps' net inflow (trapezoidal in time); 1 % (issue 10)"});
+      {"volume_balance_error", balance_error, 0.01,
+       "max over steps of |dV - dt (Q_in - Q_out)| / max(|dt (Q_in - Q_out)|, 5 % of the "
+       "largest): the fluid volume follows the caps' net inflow at every step (trapezoidal "
+       "in time); 1 % (issue 10)"});
   res.metrics.push_back(
       {"radial_displacement_relative_error", std::abs(u_mean - exact) / exact, 0.05,
        "|mean u_r(a) over the hold - thick-wall Lame (plane strain)| / Lame; 5 % (issue 10)"});
   res.details = {{"inner_radius_m", a},
-                 {"largest_volume_change_per_step_m3", largest_change},
+                 {"largest_inflow_per_step_m3", largest_flux},
+                 {"volume_balance_flux_floor", kFluxFloor},
+                 {"volume_balance_worst_step", worst_step},
+                 {"volume_balance_error_steps_above_floor", balance_error_above_floor},
+                 {"steps_above_floor", steps_above_floor},
                  {"wall_thickness_m", h},
                  {"pressure_Pa", P0},
                  {"u_r_fe_m", u_mean},

@@ -1,37 +1,67 @@
 // Pressure pulse in a compliant tube (Formaggia, Gerbeau, Nobile & Quarteroni 2001;
 // ../shared/reference/verification.md): tube 5 cm long, inner radius a = 0.5 cm, wall
 // h = 0.1 cm; fluid 1000 kg/m^3, 0.003 Pa s; wall 1200 kg/m^3, E = 3e5 Pa, nu = 0.3, ends
-// clamped; inlet traction 10 mmHg for 3 ms (edges smoothed over 0.25 ms), then zero; outlet
-// traction zero; run to 15 ms.
+// clamped; inlet traction 10 mmHg for 3 ms, then zero; outlet traction zero; run to 15 ms.
 //
-// Wave speed. Thin-wall Moens-Korteweg c = sqrt(E h / (2 rho a)) = 5.5 m/s; the thick-wall
-// estimate uses the Lame distensibility D = 2 (1 + nu) ((1 - 2 nu) a^2 + b^2) / (E (b^2 -
-// a^2)) (plane strain), c = 1 / sqrt(rho D) = 5.25 m/s. Measured from the arrival time of
-// the pulse at stations z = 1, 2, 3 cm (the cross-section mean pressure): the time its
-// front crosses half the pulse height, by linear interpolation between steps, and a
-// least-squares line z(t). The half-height crossing is used rather than the maximum because
-// the pulse has a flat top, whose maximum wanders along the plateau with the dispersion's
-// ripples; the maximum's times are reported beside it. The station at 4 cm is left out: the
-// wave reflected at the open outlet reaches it while the pulse passes.
+// The pulse's edges are smoothed (smoothstep) over t_edge = 1.25 ms; the pulse lasts 3 ms at
+// half height, as the reference's. A sharper edge is not resolved: the front then spans
+// c t_edge = 1.3 mm at t_edge = 0.25 ms, one element, and the measured speed moved by 8 %
+// with dt alone. At 1.25 ms the front spans 6.6 mm, 4.4 elements of the coarse level.
 //
-// Tolerance 10 % (the issue's) against the thick-wall estimate. Numerical dispersion and
-// damping slow and smear the front; refinement must move the speed towards the estimate
-// (--convergence: a second level with h and dt scaled by 0.7).
+// Wave speed estimates. Thin-wall Moens-Korteweg c = sqrt(E h / (2 rho a)) = 5.48 m/s. The
+// thick-wall estimate uses the Lame distensibility D = 2 (1 + nu) ((1 - 2 nu) a^2 + b^2) /
+// (E (b^2 - a^2)) (plane strain, b = a + h), c0 = 1 / sqrt(rho D) = 5.25 m/s: the long-wave
+// limit of a wall held axially. A wall free to move axially between its clamped ends
+// (sigma_zz = 0, the open-ended Lame tube) has D = 2 ((1 - nu) a^2 + (1 + nu) b^2) /
+// (E (b^2 - a^2)) and c = 5.07 m/s; reported beside it. A wave of wavenumber k is slower,
+// by the radial inertia of the fluid and the inertia of the wall:
+//   c(k)^2 / c0^2 = 1 / [(ka/2) I0(ka) / I1(ka) + rho_s h a k^2 / (2 rho)],
+// 4.72 m/s at the wavenumber of the pulse's fundamental (half a wavelength over its 3 ms,
+// ka = 1.0). The pulse is three radii long, so it disperses as it travels: it broadens and
+// its peak falls (by 40 % from 1.5 to 3.5 cm at h 1.5 mm), and every feature of its shape
+// (peak, front, steepest rise) travels at a speed between c(k) and c0 that depends on the
+// distance.
 //
-// Status (open, issue 10): the measured speed depends on the resolution in a way not yet
-// understood. Half-height speeds [m/s] by (h, dt): (1.5 mm, 150 us) 4.38; (1 mm, 100 us) 4.45;
-// (1.5 mm, 50 us) 4.60; (1.5 mm, 25 us) 5.00; (1.05 mm, 17.5 us) 4.60. rho_inf (0.5 or 1) and
-// the moving mesh (ALE or not) changed it by under 0.5 %, and a 6 ms raised-cosine pulse
-// gave 4.50 at (1.5 mm, 150 us). Suspects: the arrival measurement (half of each station's
-// own peak, a slab mean of nodal pressures), the station at 1 cm near the clamped inlet
-// ring, and the physical dispersion of a pulse only three radii long (c(k)^2 = c0^2 2 I1(ka)
-// / (ka I0(ka)) for radial fluid inertia, ~0.93 c0 at ka = 1), which puts the true answer
-// below the long-wave estimate. The full verification runs it; CI does not.
+// Measurement: the time centroid of the pressure pulse at stations z = 1.25 ... 2.5 cm (every
+// 2.5 mm), t_c(z) = int t p dt / int p dt, and a least-squares line z(t_c). For a linear
+// system p(z, w) = exp(-i k(w) z) p(0, w), so t_c(z) = t_c(0) + z dk/dw(0) = t_c(0) + z / c0
+// whatever the dispersion and the damping at higher frequencies: the centroid travels at the
+// long-wave speed, the quantity the estimates predict. The integral runs to the time the
+// reflection from the open outlet can first reach the station's slab, (2 L - z_top) / c0, or
+// to the end of the run, and the stations end at 2.5 cm so that the pulse has passed by then
+// (h 1.5 mm: at 2.5 cm the pressure there is 2 % of the peak, and cutting 0.5 ms earlier
+// moves that centroid by 0.02 ms, 0.8 % of the 2.5 ms between the first and last station;
+// those up to 2 cm move by under 0.005 ms). The pressure at a station is the mean of the
+// cross-section means at z - 2.5 mm, z, z + 2.5 mm (fluid nodes within 0.6 h of each): a
+// single section's mean wanders by +-0.1 ms in t_c with the nodes it happens to hold. The first
+// station is 2.5 radii from the clamped inlet ring. Reported beside it, from the same station
+// signals: the crossing of P0 / 2 (a fixed threshold; the dispersed peak falls below it beyond
+// about 2 cm), of half the station's own peak, the time of the largest dp/dt and of the peak.
+//
+// Tolerance 10 % (the issue's) against the thick-wall estimate c0. Refinement (h and dt by
+// 0.7, --convergence) must not move the speed away from it, beyond 1 % of it (a tenth of the
+// tolerance, the size of the truncation effect above). The damping reduces int p dt from the
+// first station to the last, by 14 % at h 1.5 mm and 5 % at 1.05 mm (numerical and
+// viscous); a loss that grows with frequency shifts the centroid little, one at w -> 0
+// (viscosity) slows it.
+//
+// Status (open, issue 10): centroid speed 6.78 m/s at (2 mm, 33 us), 4.96 at (1.5 mm, 25 us),
+// 4.40 at (1.05 mm, 17.5 us); every other measure falls alike under refinement, so the
+// 1.5 mm level passes and --convergence fails. At h 1.5 mm, dt 35 / 25 / 17.5 us give 4.70 /
+// 4.96 / 5.49 m/s with more damping at the smaller steps: the stabilization's tau_M ~ dt / 2,
+// not the integrator, sets the discrete long-wave speed (docs/performance.md).
+//
+// With -o DIR the run writes the pressure along the axis over time, DIR/pulse_axis_*.csv
+// (cross-section mean pressure every 2.5 mm at every step), so the pulse visibly travels.
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 
 #include <fmt/format.h>
 
+#include "fem/petsc.hpp"
 #include "verify/cases.hpp"
 #include "verify/fsi_tube.hpp"
 
@@ -41,17 +71,19 @@ namespace {
 
 constexpr double a = 0.005, h = 0.001, L = 0.05; // [m]
 constexpr double rho_f = 1000.0, mu = 0.003, rho_s = 1200.0, E = 3e5, nu = 0.3;
-constexpr double P0 = 1333.2, t_pulse = 0.003, t_edge = 2.5e-4, t_end = 0.015;
-constexpr std::array<double, 3> kStations{0.01, 0.02, 0.03};
+constexpr double P0 = 1333.2, t_pulse = 0.003, t_edge = 1.25e-3, t_end = 0.015;        // [Pa], [s]
+constexpr double axis_spacing = 0.0025;                                                // [m]
+constexpr std::array<double, 6> kStations{0.0125, 0.015, 0.0175, 0.02, 0.0225, 0.025}; // [m]
 
 double smoothstep(double s) {
   s = std::clamp(s, 0.0, 1.0);
   return s * s * (3.0 - 2.0 * s);
 }
 
+/// Inlet traction [Pa]: rises over [0, t_edge], falls over [t_pulse, t_pulse + t_edge].
 bc::Waveform inlet_pulse() {
   std::vector<double> t, v;
-  const int n = 400;
+  const int n = 600;
   for (int i = 0; i <= n; ++i) {
     const double ti = t_end * i / n;
     t.push_back(ti);
@@ -60,19 +92,80 @@ bc::Waveform inlet_pulse() {
   return bc::Waveform::periodic(t, v, 4.0 * t_end, "pulse inlet traction");
 }
 
-struct PulseRun {
-  double speed_half_height = 0.0, speed_peak = 0.0;
-  std::vector<double> t_half, t_peak;
-  int tets = 0, steps = 0, newton_max = 0;
-  double element_size = 0.0, dt = 0.0, seconds = 0.0;
+/// Long-wave speed [m/s] of a fluid-filled tube of distensibility D [1/Pa].
+double long_wave_speed(double D) {
+  return 1.0 / std::sqrt(rho_f * D);
+}
+
+/// Speed [m/s] of a wave of wavenumber k [1/m] in the thick tube: the long-wave speed c0
+/// lowered by the fluid's radial inertia and the wall's inertia (see the file comment).
+double short_wave_speed(double c0, double k) {
+  const double ka = k * a;
+  const double fluid = 0.5 * ka * std::cyl_bessel_i(0.0, ka) / std::cyl_bessel_i(1.0, ka);
+  const double wall = rho_s * h * a * k * k / (2.0 * rho_f);
+  return c0 / std::sqrt(fluid + wall);
+}
+
+/// The arrival-time variants at one station [s]; NaN where a variant is undefined.
+struct Arrival {
+  double centroid = 0.0;  ///< int t p dt / int p dt up to the reflection (primary)
+  double threshold = 0.0; ///< crossing of P0 / 2
+  double own_peak = 0.0;  ///< crossing of half the station's peak
+  double max_slope = 0.0; ///< largest dp/dt
+  double peak = 0.0;      ///< the peak
+  double peak_pressure = 0.0, pulse_integral = 0.0; ///< [Pa], int p dt [Pa s]
 };
 
-/// Least-squares slope dz/dt of the stations against their times.
+/// First time p(t) crosses `level` upwards, linear between samples; NaN if it never does.
+double crossing(const std::vector<double>& t, const std::vector<double>& p, double level) {
+  for (size_t i = 1; i < p.size(); ++i)
+    if (p[i - 1] < level && p[i] >= level)
+      return t[i - 1] + (level - p[i - 1]) / (p[i] - p[i - 1]) * (t[i] - t[i - 1]);
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+/// The arrivals of the pulse p(t) (samples at t, equally spaced) up to t_cut, the time the
+/// outlet's reflection can first reach the station.
+Arrival arrival(const std::vector<double>& t, const std::vector<double>& p, double t_cut) {
+  Arrival r;
+  size_t n = 0; // samples before t_cut
+  while (n < t.size() && t[n] <= t_cut)
+    ++n;
+  const std::vector<double> tw(t.begin(), t.begin() + n), pw(p.begin(), p.begin() + n);
+  double sum_p = 0.0, sum_tp = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    sum_p += pw[i];
+    sum_tp += tw[i] * pw[i];
+  }
+  const double dt = t[1] - t[0];
+  r.pulse_integral = sum_p * dt;
+  r.centroid = sum_tp / sum_p;
+  r.threshold = crossing(tw, pw, 0.5 * P0);
+  const auto peak = static_cast<size_t>(std::max_element(pw.begin(), pw.end()) - pw.begin());
+  r.peak = tw[peak];
+  r.peak_pressure = pw[peak];
+  r.own_peak = crossing(tw, pw, 0.5 * r.peak_pressure);
+  // Largest dp/dt: differences at the step midpoints, refined by a parabola.
+  size_t best = 1;
+  for (size_t i = 1; i < n; ++i)
+    if (pw[i] - pw[i - 1] > pw[best] - pw[best - 1])
+      best = i;
+  r.max_slope = tw[best] - 0.5 * dt;
+  if (best >= 2 && best + 1 < n) {
+    const double sm = pw[best - 1] - pw[best - 2], s0 = pw[best] - pw[best - 1],
+                 sp = pw[best + 1] - pw[best], curv = sm - 2.0 * s0 + sp;
+    if (curv < 0.0)
+      r.max_slope += 0.5 * (sm - sp) / curv * dt;
+  }
+  return r;
+}
+
+/// Least-squares slope dz/dt [m/s] of the stations against their arrival times.
 double speed(const std::vector<double>& t) {
   double tm = 0.0, zm = 0.0;
   for (size_t i = 0; i < t.size(); ++i) {
-    tm += t[i] / t.size();
-    zm += kStations[i] / t.size();
+    tm += t[i] / static_cast<double>(t.size());
+    zm += kStations[i] / static_cast<double>(t.size());
   }
   double num = 0.0, den = 0.0;
   for (size_t i = 0; i < t.size(); ++i) {
@@ -82,7 +175,16 @@ double speed(const std::vector<double>& t) {
   return num / den;
 }
 
-PulseRun run_pulse(double element_size, double dt, bool progress) {
+struct PulseRun {
+  std::vector<Arrival> arrivals;
+  double speed_centroid = 0.0, speed_threshold = 0.0, speed_own_peak = 0.0;
+  double speed_max_slope = 0.0, speed_peak = 0.0;
+  int tets = 0, steps = 0, newton_max = 0, newton_total = 0, linear_total = 0;
+  double element_size = 0.0, dt = 0.0, seconds = 0.0;
+  std::string axis_csv;
+};
+
+PulseRun run_pulse(double element_size, double dt, double c0, const VerifyOptions& options) {
   FsiTubeSpec spec;
   spec.pipe = {a, L, element_size, h};
   spec.fluid = {rho_f, mu};
@@ -95,6 +197,7 @@ PulseRun run_pulse(double element_size, double dt, bool progress) {
   outlet.face = "outlet";
   spec.fluid_conditions.outlets = {inlet, outlet};
   spec.wall_conditions.fixed = {{"wall_inlet", 0b111, {}, 0.0}, {"wall_outlet", 0b111, {}, 0.0}};
+  // Newton to 1e-9 of the load's force scale: arrival times move by far less than a step.
   spec.newton = {15, 1e-8, 1e-9 * P0 * a * a};
   const double start = MPI_Wtime();
   FsiTube tube(std::move(spec));
@@ -103,78 +206,136 @@ PulseRun run_pulse(double element_size, double dt, bool progress) {
   run.element_size = element_size;
   run.dt = dt;
   run.steps = static_cast<int>(std::round(t_end / dt));
-  const double slab = 0.6 * element_size; // the nodes of about one layer around z_k
-  std::vector<std::vector<double>> p(kStations.size());
+
+  // Cross-section mean pressure every axis_spacing along the tube, at every step.
+  const int n_axis = static_cast<int>(std::round(L / axis_spacing)) + 1;
+  const double slab = 0.6 * element_size; // the nodes of about one layer around z
+  std::vector<std::vector<double>> p(n_axis);
   std::vector<double> t;
+  std::ofstream csv;
+  if (!options.output.empty() && fem::mpi_rank() == 0) {
+    std::filesystem::create_directories(options.output);
+    run.axis_csv =
+        (std::filesystem::path(options.output) /
+         fmt::format("pulse_axis_h{:.2f}mm_dt{:.1f}us.csv", 1e3 * element_size, 1e6 * dt))
+            .string();
+    csv.open(run.axis_csv);
+    if (!csv)
+      input_error("{}: cannot write the pulse's axis series", run.axis_csv);
+    csv << "t_s,z_m,p_Pa\n";
+  }
   for (int s = 0; s < run.steps; ++s) {
     const physics::StepReport r = tube.advance(dt);
     run.newton_max = std::max(run.newton_max, r.newton_iterations);
+    run.newton_total += r.newton_iterations;
+    run.linear_total += r.linear_iterations;
     t.push_back(tube.time());
-    for (size_t k = 0; k < kStations.size(); ++k)
-      p[k].push_back(tube.mean_fluid_pressure(kStations[k] - slab, kStations[k] + slab));
-    if (progress)
-      fmt::print(stderr, "pulse: t = {:.5f} s p = {:.1f} {:.1f} {:.1f} Pa Newton {} KSP {}\n",
-                 tube.time(), p[0].back(), p[1].back(), p[2].back(), r.newton_iterations,
+    for (int k = 0; k < n_axis; ++k) {
+      const double z = k * axis_spacing;
+      p[k].push_back(tube.mean_fluid_pressure(z - slab, z + slab));
+      if (csv.is_open())
+        csv << fmt::format("{:.7e},{:.5f},{:.6e}\n", tube.time(), z, p[k].back());
+    }
+    if (options.progress)
+      fmt::print(stderr,
+                 "pulse: t = {:.5f} s p(1.5, 2.5, 3.5 cm) = {:.1f} {:.1f} {:.1f} Pa "
+                 "Newton {} KSP {}\n",
+                 tube.time(), p[6].back(), p[10].back(), p[14].back(), r.newton_iterations,
                  r.linear_iterations);
   }
-  for (size_t k = 0; k < kStations.size(); ++k) {
-    const auto peak = std::max_element(p[k].begin(), p[k].end()) - p[k].begin();
-    run.t_peak.push_back(t[peak]);
-    const double half = 0.5 * p[k][peak];
-    double t_half = t[0];
-    for (long i = 1; i <= peak; ++i)
-      if (p[k][i - 1] < half && p[k][i] >= half) {
-        t_half = t[i - 1] + (half - p[k][i - 1]) / (p[k][i] - p[k][i - 1]) * dt;
-        break;
-      }
-    run.t_half.push_back(t_half);
+  std::array<std::vector<double>, 5> times; // per variant, per station
+  for (double z : kStations) {
+    const auto k = static_cast<size_t>(std::lround(z / axis_spacing));
+    std::vector<double> station(t.size());
+    for (size_t i = 0; i < t.size(); ++i)
+      station[i] = (p[k - 1][i] + p[k][i] + p[k + 1][i]) / 3.0;
+    const double top = z + axis_spacing + slab; // the station's farthest node
+    const Arrival& s = run.arrivals.emplace_back(arrival(t, station, (2.0 * L - top) / c0));
+    for (auto [i, v] : {std::pair{0, s.centroid},
+                        {1, s.threshold},
+                        {2, s.own_peak},
+                        {3, s.max_slope},
+                        {4, s.peak}})
+      times[i].push_back(v);
   }
-  run.speed_half_height = speed(run.t_half);
-  run.speed_peak = speed(run.t_peak);
+  run.speed_centroid = speed(times[0]);
+  run.speed_threshold = speed(times[1]);
+  run.speed_own_peak = speed(times[2]);
+  run.speed_max_slope = speed(times[3]);
+  run.speed_peak = speed(times[4]);
   run.seconds = MPI_Wtime() - start;
   return run;
 }
 
 nlohmann::json to_json(const PulseRun& r) {
-  return {{"element_size_m", r.element_size},
-          {"dt_s", r.dt},
-          {"tets", r.tets},
-          {"steps", r.steps},
-          {"max_newton_iterations", r.newton_max},
-          {"arrival_half_height_s", r.t_half},
-          {"arrival_peak_s", r.t_peak},
-          {"speed_half_height_m_per_s", r.speed_half_height},
-          {"speed_peak_m_per_s", r.speed_peak},
-          {"seconds", r.seconds}};
+  nlohmann::json stations = nlohmann::json::array();
+  for (size_t i = 0; i < r.arrivals.size(); ++i) {
+    const Arrival& s = r.arrivals[i];
+    stations.push_back({{"z_m", kStations[i]},
+                        {"arrival_centroid_s", s.centroid},
+                        {"arrival_threshold_s", s.threshold},
+                        {"arrival_half_own_peak_s", s.own_peak},
+                        {"arrival_max_dpdt_s", s.max_slope},
+                        {"arrival_peak_s", s.peak},
+                        {"peak_Pa", s.peak_pressure},
+                        {"pulse_integral_Pa_s", s.pulse_integral}});
+  }
+  nlohmann::json j = {{"element_size_m", r.element_size},
+                      {"dt_s", r.dt},
+                      {"tets", r.tets},
+                      {"steps", r.steps},
+                      {"max_newton_iterations", r.newton_max},
+                      {"newton_per_step", double(r.newton_total) / r.steps},
+                      {"krylov_per_step", double(r.linear_total) / r.steps},
+                      {"stations", stations},
+                      {"speed_centroid_m_per_s", r.speed_centroid},
+                      {"speed_threshold_m_per_s", r.speed_threshold},
+                      {"speed_half_own_peak_m_per_s", r.speed_own_peak},
+                      {"speed_max_dpdt_m_per_s", r.speed_max_slope},
+                      {"speed_peak_m_per_s", r.speed_peak},
+                      {"seconds", r.seconds}};
+  if (!r.axis_csv.empty())
+    j["axis_series_csv"] = r.axis_csv;
+  return j;
 }
 
 } // namespace
 
 VerificationResult verify_pulse(const VerifyOptions& options) {
-  const double b = a + h;
-  const double D = 2.0 * (1.0 + nu) * ((1.0 - 2.0 * nu) * a * a + b * b) / (E * (b * b - a * a));
-  const double c_thick = 1.0 / std::sqrt(rho_f * D);
+  const double b = a + h, a2 = a * a, b2 = b * b;
+  const double c_thick =
+      long_wave_speed(2.0 * (1.0 + nu) * ((1.0 - 2.0 * nu) * a2 + b2) / (E * (b2 - a2)));
+  const double c_open =
+      long_wave_speed(2.0 * ((1.0 - nu) * a2 + (1.0 + nu) * b2) / (E * (b2 - a2)));
   const double c_mk = std::sqrt(E * h / (2.0 * rho_f * a));
+  const double c_mk_plate = c_mk / std::sqrt(1.0 - nu * nu);
+  const double k_pulse = std::numbers::pi / (c_thick * t_pulse);
+  // h 1 mm and dt 16.7 us by default; --coarsen 1.5: h 1.5 mm, dt 25 us.
   const double size = 1e-3 * options.coarsening, dt = 2.5e-5 * options.coarsening / 1.5;
-  const PulseRun coarse = run_pulse(size, dt, options.progress);
-  const double error = std::abs(coarse.speed_half_height - c_thick) / c_thick;
+  const PulseRun coarse = run_pulse(size, dt, c_thick, options);
+  const double error = std::abs(coarse.speed_centroid - c_thick) / c_thick;
 
   VerificationResult res;
   res.name = "pulse";
   res.metrics.push_back({"wave_speed_relative_error", error, 0.10,
-                         "|c (half-height arrival at z = 1, 2, 3 cm) - thick-wall Lame estimate| "
+                         "|c (pulse time centroids, z = 1.25-2.5 cm) - thick-wall Lame estimate| "
                          "/ estimate; 10 % (issue 10)"});
   res.details = {{"thick_wall_estimate_m_per_s", c_thick},
+                 {"thick_wall_open_ended_m_per_s", c_open},
                  {"moens_korteweg_thin_wall_m_per_s", c_mk},
+                 {"moens_korteweg_plate_m_per_s", c_mk_plate},
+                 {"short_wave_speed_pulse_fundamental_m_per_s", short_wave_speed(c_thick, k_pulse)},
+                 {"edge_s", t_edge},
                  {"stations_m", kStations},
                  {"runs", nlohmann::json::array({to_json(coarse)})}};
   if (options.convergence) {
-    const PulseRun fine = run_pulse(0.7 * size, 0.7 * dt, options.progress);
+    const PulseRun fine = run_pulse(0.7 * size, 0.7 * dt, c_thick, options);
     res.details["runs"].push_back(to_json(fine));
-    const double fine_error = std::abs(fine.speed_half_height - c_thick) / c_thick;
-    // Refinement must not move the speed away from the estimate, beyond 1 % of it (a tenth of
-    // the tolerance; the arrival times are interpolated between steps of 25 us, 1.3 % of the
-    // 2 cm between the outer stations at 5 m/s).
+    const double fine_error = std::abs(fine.speed_centroid - c_thick) / c_thick;
+    res.metrics.push_back({"wave_speed_relative_error_refined", fine_error, 0.10,
+                           "the same at h, dt x 0.7; 10 % (issue 10)"});
+    // Refinement must not move the speed away from the estimate, beyond 1 % of it (see the
+    // file comment).
     res.metrics.push_back({"refinement_error_growth", fine_error - error, 0.01,
                            "error at h, dt x 0.7 minus error at h, dt; <= 1 % (must not grow)"});
   }

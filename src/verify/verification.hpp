@@ -32,6 +32,8 @@ struct VerifyOptions {
   bool progress = false;    ///< per-step progress lines on stderr
   /// Scales the mesh size: > 1 coarsens (the reduced form CI runs), 1 is the default mesh.
   double coarsening = 1.0;
+  /// Directory for a case's time series (CSV), created if missing; empty: none written.
+  std::string output;
 };
 
 struct VerificationCase {
