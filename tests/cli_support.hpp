@@ -3,7 +3,10 @@
 // directories under the system's temporary folder.
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
+
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
 namespace tearflow::testing {
@@ -31,6 +34,12 @@ inline std::filesystem::path fresh_dir(const std::string& name) {
       std::filesystem::temp_directory_path() / ("tearflow-test-" + name);
   std::filesystem::remove_all(d);
   return d;
+}
+
+/// A JSON file the program wrote.
+inline nlohmann::json read_json(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
 }
 
 inline const std::filesystem::path test_data =

@@ -32,13 +32,10 @@
 namespace tearflow {
 namespace {
 
+using testing::read_json;
+
 using testing::SyntheticLumen;
 using testing::SyntheticRun;
-
-nlohmann::json read_json(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  return nlohmann::json::parse(in);
-}
 
 double relative(double value, double exact) {
   return std::abs(value - exact) / std::abs(exact);

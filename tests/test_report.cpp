@@ -14,13 +14,10 @@
 namespace tearflow {
 namespace {
 
+using testing::read_json;
+
 using testing::SyntheticLumen;
 using testing::SyntheticRun;
-
-nlohmann::json read_json(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  return nlohmann::json::parse(in);
-}
 
 /// The two-lumen channel of test_analysis.cpp, analysed: TL1 / FL1 at z = 1 mm, TL2 / FL2 at
 /// z = 2 mm.

@@ -14,13 +14,10 @@
 namespace tearflow {
 namespace {
 
+using testing::read_json;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-json read_json(const fs::path& file) {
-  std::ifstream in(file);
-  return json::parse(in);
-}
 
 std::string read_text(const fs::path& file) {
   std::ifstream in(file);

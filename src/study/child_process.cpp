@@ -1,5 +1,6 @@
 #include "study/child_process.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
@@ -32,7 +33,13 @@ const std::vector<std::string>& launch_environment() {
 }
 
 std::filesystem::path self_executable() {
-  return std::filesystem::read_symlink("/proc/self/exe");
+  // A rebuild while a study runs replaces the file: the link then reads "PATH (deleted)",
+  // and the new program at PATH runs the remaining stages.
+  std::string path = std::filesystem::read_symlink("/proc/self/exe").string();
+  const std::string deleted = " (deleted)";
+  if (path.ends_with(deleted))
+    path.erase(path.size() - deleted.size());
+  return path;
 }
 
 int run_child(const std::vector<std::string>& argv, const std::filesystem::path& directory,
@@ -53,7 +60,17 @@ int run_child(const std::vector<std::string>& argv, const std::filesystem::path&
   for (const std::string& a : argv)
     args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
-  for (const std::string& e : launch_environment())
+  std::vector<std::string> environment = launch_environment();
+  // Open MPI's mpirun refuses to start as root unless told to; a study started as root (a
+  // container, CI) means its stages to run as root too.
+  if (geteuid() == 0)
+    for (const char* allow : {"OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"}) {
+      const std::string name = std::string(allow).substr(0, std::string(allow).find('=') + 1);
+      if (std::none_of(environment.begin(), environment.end(),
+                       [&](const std::string& e) { return e.rfind(name, 0) == 0; }))
+        environment.emplace_back(allow);
+    }
+  for (const std::string& e : environment)
     env.push_back(const_cast<char*>(e.c_str()));
   env.push_back(nullptr);
   pid_t pid = 0;
