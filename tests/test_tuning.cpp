@@ -132,6 +132,11 @@ TEST(Tuning, TargetsFile) {
   EXPECT_NE(message("bad_pressures.yaml").find("expected diastolic < mean < systolic"),
             std::string::npos)
       << message("bad_pressures.yaml");
+  EXPECT_NE(message("bad_per_outlet_aims.yaml").find("bad_per_outlet_aims.yaml:6: correction: "),
+            std::string::npos)
+      << message("bad_per_outlet_aims.yaml");
+  EXPECT_FALSE(t.per_outlet); // the defaults: shared parameters, domain correction
+  EXPECT_TRUE(t.correct_domain);
 }
 
 namespace {
