@@ -256,6 +256,8 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
           "the waveform's period is 1 s but the case's period is 0.8 s (time.period)"},
   BadCase{"bad_rcr_capacitance.yaml", 14, "boundary_conditions[1].capacitance",
           "expected a number > 0, got '-1.0e-9'"},
+  BadCase{"bad_rcr_capacitance_zero.yaml", 14, "boundary_conditions[1].capacitance",
+          "expected a number > 0, got '0.0'"},
   BadCase{"bad_rcr_distal_zero.yaml", 15, "boundary_conditions[1].distal_resistance",
           "expected a number > 0, got '0'"},
   BadCase{"bad_rcr_proximal_negative.yaml", 13, "boundary_conditions[1].proximal_resistance",

@@ -130,6 +130,19 @@ TEST(CliRun, BadInputIsAClearErrorWithNonZeroExit) {
   EXPECT_THAT(rcr.output, HasSubstr("boundary_conditions[2].face"));
   EXPECT_THAT(rcr.output, HasSubstr("has no face 'outlett' (did you mean 'outlet'?)"));
 
+  // Zero capacitance or distal resistance: the RCR ODE has no solution (R_p = 0, the RC
+  // Windkessel, is accepted: docs/case-file.md).
+  const std::pair<const char*, const char*> zeros[] = {
+      {"bad_rcr_capacitance_zero.yaml", "boundary_conditions[1].capacitance"},
+      {"bad_rcr_distal_zero.yaml", "boundary_conditions[1].distal_resistance"}};
+  for (const auto& [file, key] : zeros) {
+    const Result zero = run("run " + (data / "cases" / file).string());
+    EXPECT_EQ(zero.code, 2) << file;
+    EXPECT_THAT(zero.output, HasSubstr(file));
+    EXPECT_THAT(zero.output, HasSubstr(key));
+    EXPECT_THAT(zero.output, HasSubstr("expected a number > 0"));
+  }
+
   const Result missing = run("run /nonexistent/case.yaml");
   EXPECT_NE(missing.code, 0);
   EXPECT_THAT(missing.output, HasSubstr("/nonexistent/case.yaml"));

@@ -1,5 +1,7 @@
 // Outlets through the program: RCR restart mid-cycle, Newton iterations under stiff
-// Windkessels, backflow with and without stabilization, the cycle summary.
+// Windkessels, backflow with and without stabilization, the cycle summary, the periodicity
+// stop; NaN-safe verification metrics.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,7 @@
 
 #include "bc/windkessel.hpp"
 #include "cli_support.hpp"
+#include "verify/verification.hpp"
 
 namespace fs = std::filesystem;
 
@@ -162,4 +165,52 @@ TEST(OutletRun, ExamplePipeRcrRunsOnTheFieldsMesh) {
         tearflow::bc::distal_update(rcr, prev.distal, prev.flow, 0.005)(out.flow);
     EXPECT_NEAR(out.distal, expected, 1e-9 * std::abs(expected) + 1e-9) << "step " << step;
   }
+}
+
+TEST(OutletRun, PeriodicityToleranceStopsTheRunOrRunsToMaxCycles) {
+  // time.periodicity: the run stops after the first cycle whose change from the previous one
+  // (max over outlets and samples of |difference| / peak, flow and pressure) is below the
+  // tolerance, else after max_cycles. Cycle 1 starts with the fluid at rest, so its first
+  // outlet flow is 0 where cycle 2 has Q_in(0) = 2 of the peak 8 mL/s: change 0.25. From
+  // then the RCR (R_d C = 10 ms, period 80 ms) relaxes by exp(-8) = 3e-4 per cycle; cycle 3
+  // measured 1.7e-5. Loose (1e-3, max 5): stops after cycle 3, two before its maximum.
+  // Tight (1e-6, 17 times below cycle 3's change; max 3): runs all 3 and says so.
+  const auto cycles = [](const fs::path& d) {
+    std::ifstream in(d / "cycles.json");
+    return nlohmann::json::parse(in);
+  };
+  const fs::path loose = fresh_dir("periodic-loose"), tight = fresh_dir("periodic-tight");
+  const Result a = run("run " + (data / "runs/small_pipe_rcr_periodic_loose.yaml").string() +
+                       " -o " + loose.string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  const nlohmann::json ca = cycles(loose);
+  ASSERT_EQ(ca["cycles"].size(), 3u) << a.output;
+  EXPECT_TRUE(ca["cycles"][0]["change_from_previous"].is_null()); // nothing to compare with
+  EXPECT_GT(double(ca["cycles"][1]["change_from_previous"]), 1e-3);
+  EXPECT_LT(double(ca["cycles"][2]["change_from_previous"]), 1e-3);
+  EXPECT_EQ(newton_per_step(a.output).size(), 24u); // stopped at step 24 of 40
+  EXPECT_THAT(a.output, testing::HasSubstr("(periodic)"));
+  EXPECT_THAT(a.output, testing::Not(testing::HasSubstr("not periodic")));
+
+  const Result b = run("run " + (data / "runs/small_pipe_rcr_periodic_tight.yaml").string() +
+                       " -o " + tight.string());
+  ASSERT_EQ(b.code, 0) << b.output;
+  const nlohmann::json cb = cycles(tight);
+  ASSERT_EQ(cb["cycles"].size(), 3u) << b.output;
+  for (size_t k = 1; k < 3; ++k)
+    EXPECT_GT(double(cb["cycles"][k]["change_from_previous"]), 1e-6) << "cycle " << k + 1;
+  EXPECT_EQ(newton_per_step(b.output).size(), 24u);
+  EXPECT_THAT(b.output, testing::Not(testing::HasSubstr("(periodic)")));
+  EXPECT_THAT(b.output, testing::HasSubstr("not periodic within 1e-06 after 3 cycles"));
+}
+
+TEST(VerifyMetric, NanOrMissingErrorsFail) {
+  // The verification drivers take their max errors with worst_of: a NaN (a diverged run, a
+  // missing sample) must fail the metric instead of vanishing in std::max.
+  using tearflow::verify::worst_of;
+  EXPECT_EQ(worst_of(worst_of(0.0, 0.2), 0.1), 0.2);
+  EXPECT_TRUE(std::isnan(worst_of(0.1, NAN)));
+  EXPECT_TRUE(std::isnan(worst_of(worst_of(0.0, NAN), 0.3))); // a later sample cannot hide it
+  EXPECT_FALSE((tearflow::verify::Metric{"e", worst_of(0.0, NAN), 1.0, ""}.passed()));
+  EXPECT_TRUE((tearflow::verify::Metric{"e", worst_of(0.0, 0.5), 1.0, ""}.passed()));
 }

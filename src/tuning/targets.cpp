@@ -11,7 +11,8 @@ namespace tearflow::tuning {
 
 TuningTargets load_targets(const std::filesystem::path& file) {
   const io::YamlValue root(file.string(), io::parse_yaml_file(file));
-  root.check_keys({"pressure", "splits", "tolerance", "iterations", "cycles", "domain_resistance"});
+  root.check_keys({"pressure", "splits", "tolerance", "iterations", "cycles", "domain_resistance",
+                   "parameters", "correction"});
   TuningTargets t;
 
   const io::YamlValue p =
@@ -57,6 +58,14 @@ TuningTargets load_targets(const std::filesystem::path& file) {
     t.cycles = x->integer(1);
   if (auto x = root.get("domain_resistance"))
     t.domain_resistance = x->non_negative();
+  if (auto x = root.get("parameters"))
+    t.per_outlet = x->choice({"shared", "per_outlet"}) == "per_outlet";
+  if (auto x = root.get("correction")) {
+    t.correct_domain = x->choice({"domain", "aims"}) == "domain";
+    if (t.per_outlet && !t.correct_domain)
+      x->fail("per-outlet parameters are corrected by the domain's resistance to each outlet: "
+              "use correction: domain (the default) with parameters: per_outlet");
+  }
   return t;
 }
 

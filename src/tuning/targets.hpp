@@ -18,6 +18,12 @@ struct TuningTargets {
   int max_iterations = 4;             ///< 3D correction runs (0: the 0D stage only)
   int cycles = 2;                     ///< cardiac cycles per 3D run; the last is measured
   double domain_resistance = 0.0;     ///< the 3D domain's own resistance when known [Pa s/m^3]
+  /// Stage 2 corrects the 0D model with the domain's resistance measured in each 3D run
+  /// (true), or only rescales the 0D stage's aims by achieved / target (false).
+  bool correct_domain = true;
+  /// Per-outlet parameters: each outlet's resistance corrected by the domain's resistance to
+  /// that outlet (R_i = R_T / f_i - e_i), instead of one R_T distributed by f_i.
+  bool per_outlet = false;
 };
 
 /// Reads and checks a targets file. InputError naming the file, line and key for unknown

@@ -76,6 +76,8 @@ std::string table(const TuningResult& r, const TuningTargets& t) {
 nlohmann::json to_json(const TuningResult& r, const TuningTargets& t) {
   nlohmann::json j;
   j["met"] = r.met;
+  j["method"] = {{"parameters", t.per_outlet ? "per_outlet" : "shared"},
+                 {"correction", t.correct_domain ? "domain" : "aims"}};
   j["targets"] = {{"systolic_mmHg", t.pressure.systolic / units::mmHg},
                   {"diastolic_mmHg", t.pressure.diastolic / units::mmHg},
                   {"mean_mmHg", t.pressure.mean / units::mmHg}};
@@ -91,10 +93,12 @@ nlohmann::json to_json(const TuningResult& r, const TuningTargets& t) {
                         {"diastolic_mmHg", s.achieved.diastolic / units::mmHg},
                         {"mean_mmHg", s.achieved.mean / units::mmHg},
                         {"pressure_error_percent", 100.0 * s.pressure_error},
-                        {"split_error_points", s.split_error}};
+                        {"split_error_points", s.split_error},
+                        {"domain_series_resistance_Pa_s_per_m3", s.domain.series}};
     for (size_t i = 0; i < t.splits.size(); ++i) {
       k["split_percent"][t.splits[i].face] = s.split_percent[i];
       k["distribution"][t.splits[i].face] = s.distribution[i];
+      k["domain_branch_resistance_Pa_s_per_m3"][t.splits[i].face] = s.domain.of_branch(i);
     }
     j["steps"].push_back(k);
   }

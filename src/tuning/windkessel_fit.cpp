@@ -13,15 +13,25 @@
 namespace tearflow::tuning {
 
 std::vector<bc::WindkesselBranch> distribute(const WindkesselTotals& t,
-                                             const std::vector<OutletFraction>& outlets) {
+                                             const std::vector<OutletFraction>& outlets,
+                                             const DomainResistance& domain) {
   std::vector<bc::WindkesselBranch> branches;
-  for (const OutletFraction& o : outlets) {
-    const double r = t.resistance / o.fraction;
+  for (size_t i = 0; i < outlets.size(); ++i) {
+    const OutletFraction& o = outlets[i];
+    const double r = t.resistance / o.fraction - domain.of_branch(i);
     branches.push_back(
         {o.face,
          {(1.0 - t.distal_share) * r, t.capacitance * o.fraction, t.distal_share * r, 0.0}});
   }
   return branches;
+}
+
+bc::WindkesselNetwork zero_d_model(const std::vector<bc::WindkesselBranch>& outlets,
+                                   const DomainResistance& domain) {
+  std::vector<bc::WindkesselBranch> branches = outlets;
+  for (size_t i = 0; i < branches.size(); ++i) // e_i in series: part of the proximal side
+    branches[i].rcr.proximal_resistance += domain.of_branch(i);
+  return bc::WindkesselNetwork(branches, domain.series);
 }
 
 InletPressures inlet_pressures(const bc::PeriodicState& state) {
@@ -41,13 +51,13 @@ InletPressures inlet_pressures(const bc::WindkesselNetwork& network, const bc::W
 
 namespace {
 
-/// Parameters in unconstrained variables: x = (ln R_T, ln C_T, logit k_d).
-WindkesselTotals from_x(const Eigen::VectorXd& x) {
-  return {std::exp(x[0]), std::exp(x[1]), 1.0 / (1.0 + std::exp(-x[2]))};
+/// Parameters in unconstrained variables: x = (ln (R_T - R_min), ln C_T, logit k_d).
+WindkesselTotals from_x(const Eigen::VectorXd& x, double r_min) {
+  return {r_min + std::exp(x[0]), std::exp(x[1]), 1.0 / (1.0 + std::exp(-x[2]))};
 }
-Eigen::VectorXd to_x(const WindkesselTotals& t) {
+Eigen::VectorXd to_x(const WindkesselTotals& t, double r_min) {
   Eigen::VectorXd x(3);
-  x << std::log(t.resistance), std::log(t.capacitance),
+  x << std::log(t.resistance - r_min), std::log(t.capacitance),
       std::log(t.distal_share / (1.0 - t.distal_share));
   return x;
 }
@@ -64,14 +74,16 @@ struct Misfit {
   const std::vector<std::complex<double>>* inflow_modes;
   double period;
   const std::vector<OutletFraction>* outlets;
-  double series_resistance;
+  const DomainResistance* domain;
+  double r_min;
   int* evaluations;
 
   int inputs() const { return 3; }
   int values() const { return 3; }
   int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
     ++*evaluations;
-    const bc::WindkesselNetwork net(distribute(from_x(x), *outlets), series_resistance);
+    const bc::WindkesselNetwork net =
+        zero_d_model(distribute(from_x(x, r_min), *outlets, *domain), *domain);
     const InletPressures p = inlet_pressures(net.periodic(*inflow_modes, period));
     f.resize(3);
     f << p.systolic / targets->systolic - 1.0, p.diastolic / targets->diastolic - 1.0,
@@ -84,7 +96,7 @@ struct Misfit {
 
 FitResult fit_windkessel_totals(const InletPressures& targets, const bc::Waveform& inflow,
                                 const std::vector<OutletFraction>& outlets,
-                                double series_resistance, WindkesselTotals start) {
+                                const DomainResistance& domain, WindkesselTotals start) {
   if (!(targets.diastolic > 0.0 && targets.diastolic < targets.mean &&
         targets.mean < targets.systolic))
     input_error("no Windkessel can meet P_sys = {:.1f}, P_dias = {:.1f}, MAP = {:.1f} mmHg: "
@@ -94,14 +106,19 @@ FitResult fit_windkessel_totals(const InletPressures& targets, const bc::Wavefor
   const double q_mean = inflow.mean();
   if (!(q_mean > 0.0))
     input_error("the inflow's mean {:.3g} m^3/s is not positive: no resistance gives MAP", q_mean);
-  const double r_min = series_resistance;
-  if (targets.mean / q_mean <= r_min)
+  if (!domain.branch.empty() && domain.branch.size() != outlets.size())
+    throw std::logic_error("one domain branch resistance per outlet expected");
+  // Every outlet's own resistance R_T / f_i - e_i must stay positive.
+  double r_min = 0.0;
+  for (size_t i = 0; i < outlets.size(); ++i)
+    r_min = std::max(r_min, domain.of_branch(i) * outlets[i].fraction);
+  if (targets.mean / q_mean <= domain.series + r_min)
     input_error("MAP {:.1f} mmHg is below the 3D domain's own pressure drop: no outlet "
                 "resistance can meet it",
                 targets.mean / units::mmHg);
-  if (start.resistance <= 0.0) {
-    start.resistance = targets.mean / q_mean - r_min;
-    start.capacitance = 1.0 / start.resistance; // R_T C_T = 1 s, a cardiac period
+  if (start.resistance <= r_min) {
+    start.resistance = targets.mean / q_mean - domain.series;
+    start.capacitance = inflow.period() / start.resistance; // R_T C_T = one cardiac period
     start.distal_share = 0.85;
   }
 
@@ -112,24 +129,23 @@ FitResult fit_windkessel_totals(const InletPressures& targets, const bc::Wavefor
   FitResult best;
   best.max_relative_error = 1e300;
   std::vector<WindkesselTotals> starts = {start};
-  for (double tau : {0.3, 1.0, 3.0})
+  for (double tau : {0.3, 1.0, 3.0}) // time constants in cardiac periods
     for (double kd : {0.6, 0.8, 0.95})
-      starts.push_back({start.resistance, tau / start.resistance, kd});
+      starts.push_back({start.resistance, tau * inflow.period() / start.resistance, kd});
   int evaluations = 0;
   for (const WindkesselTotals& s0 : starts) {
-    Misfit misfit{&targets, &modes, inflow.period(), &outlets, series_resistance, &evaluations};
+    Misfit misfit{&targets, &modes, inflow.period(), &outlets, &domain, r_min, &evaluations};
     Eigen::NumericalDiff<Misfit> functor(misfit);
     Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Misfit>> lm(functor);
     lm.parameters.xtol = 1e-12;
     lm.parameters.ftol = 1e-12;
     lm.parameters.maxfev = 500;
-    Eigen::VectorXd x = to_x(s0);
+    Eigen::VectorXd x = to_x(s0, r_min);
     lm.minimize(x);
     FitResult r;
-    r.totals = from_x(x);
-    r.achieved =
-        inlet_pressures(bc::WindkesselNetwork(distribute(r.totals, outlets), series_resistance)
-                            .periodic(modes, inflow.period()));
+    r.totals = from_x(x, r_min);
+    r.achieved = inlet_pressures(zero_d_model(distribute(r.totals, outlets, domain), domain)
+                                     .periodic(modes, inflow.period()));
     r.max_relative_error = std::max({std::abs(r.achieved.systolic / targets.systolic - 1.0),
                                      std::abs(r.achieved.diastolic / targets.diastolic - 1.0),
                                      std::abs(r.achieved.mean / targets.mean - 1.0)});

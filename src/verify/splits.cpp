@@ -4,6 +4,7 @@
 // of the outlets (bc/windkessel_network.hpp: the inflow into parallel RCRs) splits the mean
 // flow as f_i. The 3D run adds the junction's own resistance, small against the outlets'.
 // Starting from the 0D periodic state, its first cycle is compared with the 0D prediction.
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -89,15 +90,25 @@ VerificationResult verify_splits(const VerifyOptions& options) {
 
   VerificationResult res;
   res.name = "splits";
-  double worst = 0.0;
+  // A run that completed no cycle, or an outlet missing from it, leaves a NaN: it fails.
+  const int outlets_measured =
+      cycle ? static_cast<int>(std::count_if(
+                  cycle->faces.begin(), cycle->faces.end(),
+                  [](const analysis::FaceCycleStats& f) { return f.split_percent.has_value(); }))
+            : 0;
+  res.metrics.push_back({"outlet_count_error",
+                         std::abs(static_cast<double>(kOutlets.size()) - outlets_measured), 0.0,
+                         "|outlets - outlets with a measured split in the cycle|; 0"});
+  double worst = cycle ? 0.0 : NAN;
   nlohmann::json table = nlohmann::json::array();
   for (size_t i = 0; i < kOutlets.size(); ++i) {
     const double predicted = 100.0 * zero_d.mean_branch_flow(i) / total;
     double measured = NAN;
-    for (const analysis::FaceCycleStats& f : cycle->faces)
-      if (f.face == kOutlets[i])
-        measured = f.split_percent.value_or(NAN);
-    worst = std::max(worst, std::abs(measured - predicted));
+    if (cycle)
+      for (const analysis::FaceCycleStats& f : cycle->faces)
+        if (f.face == kOutlets[i])
+          measured = f.split_percent.value_or(NAN);
+    worst = worst_of(worst, std::abs(measured - predicted));
     table.push_back(
         {{"outlet", kOutlets[i]}, {"split_3d_percent", measured}, {"split_0d_percent", predicted}});
   }
@@ -115,7 +126,7 @@ VerificationResult verify_splits(const VerifyOptions& options) {
       {"C_T", C_T},
       {"k_d", k_d},
       {"splits", table},
-      {"cycle", analysis::cycles_to_json(T, {*cycle})}};
+      {"cycle", cycle ? analysis::cycles_to_json(T, {*cycle}) : nlohmann::json()}};
   return res;
 }
 

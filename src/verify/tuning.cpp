@@ -17,6 +17,10 @@ namespace tearflow::verify {
 namespace {
 
 constexpr double T = 1.0, dt = 0.01, Q_mean = 1e-5;
+// The bounded number of 3D runs: the junction takes ~1 % of the pressure, which the first
+// run measures and the 0D model then holds (outlet_tuning.hpp), so one correction run
+// should meet the aims; 3 leaves one spare.
+constexpr int kMaxRuns = 3;
 const tuning::WindkesselTotals kTruth{1.2e8, 8e-9, 0.8};
 const std::vector<tuning::OutletFraction> kTruthSplit = {
     {"outlet_1", 0.55}, {"outlet_2", 0.25}, {"outlet_3", 0.20}};
@@ -64,7 +68,9 @@ VerificationResult verify_tuning(const VerifyOptions& options) {
   tuning::TuningTargets targets;
   targets.pressure_tolerance = 0.01; // aim at 1 % and 0.5 points; accept 3 % and 2 points
   targets.split_tolerance = 0.5;
-  targets.max_iterations = 4;
+  // The cap lies above the bound checked below (kMaxRuns), so that a tuning needing more
+  // runs than the bound shows it in runs_3d instead of being cut off at the bound.
+  targets.max_iterations = kMaxRuns + 3;
   targets.cycles = 2;
   for (const analysis::FaceCycleStats& f : measured.cycles.back().faces) {
     if (f.face == "inlet")
@@ -83,14 +89,16 @@ VerificationResult verify_tuning(const VerifyOptions& options) {
                          "after tuning; 3 % (the issue's bound)"});
   res.metrics.push_back({"split_error_points", last.split_error, 2.0,
                          "max over outlets of |achieved - target split| in % points; 2"});
-  res.metrics.push_back({"runs_3d", static_cast<double>(last.iteration), 4.0,
-                         "3D runs taken (two cycles each); at most 4"});
+  res.metrics.push_back({"runs_3d", static_cast<double>(last.iteration), kMaxRuns,
+                         "3D runs taken (two cycles each) until the 1 % / 0.5 point aims were "
+                         "met, or the cap (6) when never; at most 3"});
   nlohmann::json steps = nlohmann::json::array();
   for (const tuning::TuningStep& s : r.steps)
     steps.push_back({{"iteration", s.iteration},
                      {"R_T", s.totals.resistance},
                      {"C_T", s.totals.capacitance},
                      {"k_d", s.totals.distal_share},
+                     {"domain_series_resistance_Pa_s_per_m3", s.domain.series},
                      {"pressure_error", s.pressure_error},
                      {"split_error_points", s.split_error}});
   res.details = {

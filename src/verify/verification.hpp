@@ -2,7 +2,10 @@
 // Built-in verification cases: each runs a problem whose answer is known independently of
 // the code and reports its error metrics against tolerances derived from the method's
 // expected accuracy. `tearflow verify NAME` prints the result as one JSON object.
+#include <algorithm>
+#include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -14,10 +17,17 @@ namespace tearflow::verify {
 struct Metric {
   std::string name;
   double value = 0.0;
-  double tolerance = 0.0; ///< pass when value <= tolerance
-  std::string meaning;    ///< what is measured and why the tolerance
-  bool passed() const { return value <= tolerance; }
+  double tolerance = 0.0;                            ///< pass when value <= tolerance
+  std::string meaning;                               ///< what is measured and why the tolerance
+  bool passed() const { return value <= tolerance; } ///< false for a NaN value
 };
+
+/// max(worst, x) that keeps a NaN: a NaN error (a diverged run, a missing sample) must fail
+/// the metric, where std::max(worst, NaN) would silently return worst.
+inline double worst_of(double worst, double x) {
+  return std::isnan(worst) || std::isnan(x) ? std::numeric_limits<double>::quiet_NaN()
+                                            : std::max(worst, x);
+}
 
 struct VerificationResult {
   std::string name;

@@ -1,0 +1,99 @@
+// `tearflow tune` end to end on the small pipe (one RCR outlet, one 3D run of two cycles of
+// 20 steps): the tuned case and the target / achieved / error table are written and
+// consistent; targets no Windkessel can meet stop before any fit or run.
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "io/case.hpp"
+
+namespace fs = std::filesystem;
+using testing::HasSubstr;
+using testing::Not;
+
+namespace {
+
+using tearflow::testing::fresh_dir;
+using tearflow::testing::Result;
+const fs::path data = tearflow::testing::test_data / "tuning";
+
+std::string read(const fs::path& file) {
+  std::ifstream in(file);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+int count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1))
+    ++n;
+  return n;
+}
+
+} // namespace
+
+TEST(CliTune, WritesTheTunedCaseAndTheTable) {
+  const fs::path dir = fresh_dir("tune");
+  const fs::path tuned = dir / "tuned.yaml";
+  const Result r = tearflow::testing::run_tearflow(
+      "tune " + (data / "small_pipe.yaml").string() + " --targets " +
+      (data / "small_pipe_targets.yaml").string() + " -o " + tuned.string());
+  // Met within the targets' 10 % after the one 3D run the targets file allows.
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(count(r.output, "tune 0D 0:"), 1) << r.output;
+  EXPECT_EQ(count(r.output, "tune 3D "), 1) << r.output;
+  for (const char* row : {"P_sys mmHg", "P_dias mmHg", "MAP mmHg", "split outlet"})
+    EXPECT_THAT(r.output, HasSubstr(row));
+
+  // The tuned case: headed by the same table, loadable, its outlet the last step's RCR.
+  ASSERT_TRUE(fs::exists(tuned)) << r.output;
+  const std::string text = read(tuned);
+  EXPECT_THAT(text, HasSubstr("targets met after 1 3D run(s)"));
+  EXPECT_THAT(text, HasSubstr("#                    target   achieved     error"));
+  EXPECT_THAT(text, HasSubstr("# P_sys mmHg"));
+  const tearflow::io::Case c = tearflow::io::load_case(tuned);
+  const tearflow::io::BoundaryCondition* outlet = nullptr;
+  for (const auto& b : c.boundary_conditions)
+    if (b.face == "outlet")
+      outlet = &b;
+  ASSERT_NE(outlet, nullptr);
+  ASSERT_EQ(outlet->type, tearflow::io::BcType::Windkessel);
+
+  std::ifstream in(dir / "tuned.tuning.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["met"].get<bool>());
+  ASSERT_EQ(j["steps"].size(), 2u);
+  const nlohmann::json& last = j["steps"][1];
+  EXPECT_EQ(last["stage"], "3D");
+  // One outlet takes R_T whole: R_p + R_d = R_T, C = C_T, R_d = k_d R_T (written to 6
+  // significant digits).
+  const double R_T = last["R_T_Pa_s_per_m3"], C_T = last["C_T_m3_per_Pa"], k_d = last["k_d"];
+  EXPECT_NEAR(outlet->rcr.proximal_resistance + outlet->rcr.distal_resistance, R_T, 1e-5 * R_T);
+  EXPECT_NEAR(outlet->rcr.distal_resistance, k_d * R_T, 1e-5 * R_T);
+  EXPECT_NEAR(outlet->rcr.capacitance, C_T, 1e-5 * C_T);
+  EXPECT_LE(double(last["pressure_error_percent"]), 10.0);
+  EXPECT_NEAR(double(last["split_percent"]["outlet"]), 100.0, 1e-9);
+}
+
+TEST(CliTune, TargetsNoWindkesselCanMeetStopBeforeAnyRun) {
+  const std::pair<const char*, const char*> bad[] = {
+      {"bad_pressures.yaml", "expected diastolic < mean < systolic"},
+      {"bad_splits.yaml", "bad_splits.yaml:3: splits: the splits sum to 93.50 %"}};
+  for (const auto& [file, message] : bad) {
+    const fs::path dir = fresh_dir("tune-bad");
+    const Result r = tearflow::testing::run_tearflow("tune " + (data / "small_pipe.yaml").string() +
+                                                     " --targets " + (data / file).string() +
+                                                     " -o " + (dir / "tuned.yaml").string());
+    EXPECT_EQ(r.code, 2) << file << "\n" << r.output;
+    EXPECT_THAT(r.output, HasSubstr(file));
+    EXPECT_THAT(r.output, HasSubstr(message));
+    EXPECT_THAT(r.output, Not(HasSubstr("tune 0D"))) << file; // no fit
+    EXPECT_THAT(r.output, Not(HasSubstr("tune 3D"))) << file; // no run
+    EXPECT_FALSE(fs::exists(dir / "tuned.yaml")) << file;
+  }
+}
