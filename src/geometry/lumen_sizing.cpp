@@ -22,11 +22,11 @@ LumenSizing::LumenSizing(const TbadModel& model) {
   // The refined zone spans the flap with the false lumen's end caps.
   s0_ = model.flap_start() - h_;
   s1_ = model.flap_end() + h_;
-  // Beyond the zone the size grows from the finest by kGrading per metre; sample far enough
-  // for it to reach the global size.
+  // Beyond the zone the size grows from the finest by kGrading per unit distance; sample far
+  // enough for it to reach the global size.
   double finest = global_;
   for (double s = s0_; s <= s1_; s += kSampleSpacing)
-    finest = std::min(finest, model.true_lumen_thickness(s) / spec.lumen_elements);
+    finest = std::min(finest, std::max(0.1 * global_, model.true_lumen_thickness(s) / elements_));
   const double reach = (global_ - finest) / kGrading + kSampleSpacing;
   const double first = std::max(0.0, s0_ - reach), last = std::min(model.length(), s1_ + reach);
   const int n = static_cast<int>(std::ceil((last - first) / kSampleSpacing)) + 1;
@@ -38,16 +38,12 @@ LumenSizing::LumenSizing(const TbadModel& model) {
     x.radius = model.radius(x.s);
     x.offset = model.flap_offset(x.s);
     const double clamped = std::clamp(x.s, model.flap_start(), model.flap_end());
-    x.fine = std::min(global_, model.true_lumen_thickness(clamped) / spec.lumen_elements);
+    // Floored at a tenth of the global size, so that a very thin TL (small --tl-areas)
+    // cannot drive the size towards zero and the tet count without bound.
+    x.fine = std::clamp(model.true_lumen_thickness(clamped) / spec.lumen_elements, 0.1 * global_,
+                        global_);
     samples_.push_back(x);
   }
-}
-
-double LumenSizing::fine_size(double s) const {
-  for (const Sample& x : samples_)
-    if (x.s >= s)
-      return x.fine;
-  return global_;
 }
 
 double LumenSizing::size(const Vec3& p) const {

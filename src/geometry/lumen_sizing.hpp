@@ -24,8 +24,6 @@ public:
 
   /// Target element size at point p [m] (the global element size where nothing is refined).
   double size(const Vec3& p) const;
-  /// Size in the refined zone at arclength s: the TL thickness over the elements across [m].
-  double fine_size(double s) const;
   bool enabled() const { return !samples_.empty(); }
 
 private:
