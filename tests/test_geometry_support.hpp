@@ -30,22 +30,28 @@ struct CachedModel {
   fs::path dir;
 };
 
-inline TbadSpec variant_spec(const std::string& variant, double element_size) {
+/// `lumen_elements` < 0 keeps the spec's default.
+inline TbadSpec variant_spec(const std::string& variant, double element_size,
+                             int lumen_elements = -1) {
   TbadSpec s;
   apply_variant(s, variant);
   s.element_size = element_size;
+  if (lumen_elements >= 0)
+    s.lumen_elements = lumen_elements;
   return s;
 }
 
-inline CachedModel cached_tbad(const std::string& variant, double element_size) {
+inline CachedModel cached_tbad(const std::string& variant, double element_size,
+                               int lumen_elements = -1) {
   std::error_code ec;
   const auto stamp = fs::last_write_time("/proc/self/exe", ec).time_since_epoch().count();
+  const TbadSpec spec = variant_spec(variant, element_size, lumen_elements);
   const fs::path dir =
-      fs::temp_directory_path() /
-      fmt::format("tearflow-geometry-test-{}-{}-{:.2f}", stamp, variant, element_size * 1e3);
+      fs::temp_directory_path() / fmt::format("tearflow-geometry-test-{}-{}-{:.2f}-n{}", stamp,
+                                              variant, element_size * 1e3, spec.lumen_elements);
   if (!fs::is_regular_file(dir / kLandmarksFile, ec)) {
     const fs::path mine = dir.string() + fmt::format(".tmp{}", ::getpid());
-    build_tbad(variant_spec(variant, element_size), mine);
+    build_tbad(spec, mine);
     fs::rename(mine, dir, ec); // fails if another process won: use theirs
     if (ec)
       fs::remove_all(mine, ec);

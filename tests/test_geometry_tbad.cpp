@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "geometry/fsi_mesh.hpp"
 #include "geometry/sections.hpp"
+#include "geometry/tbad_model.hpp"
 #include "test_geometry_support.hpp"
 
 namespace tearflow::geometry {
@@ -136,6 +137,118 @@ TEST(TbadGeometry, LuminaCommunicateOnlyThroughTheTears) {
   }
   const std::vector<int> c = fluid_components(m.mesh, both);
   EXPECT_NE(c[tl], c[fl]) << "both tears closed: the lumina must be disconnected";
+}
+
+// How well the fluid mesh resolves the true lumen across its thickness near a paired
+// station: the fraction of a laminar profile's flux that the P1 velocity space, zero at
+// every boundary node (no-slip), can carry. The profile is u = (y - f)(w(x) - y) in the
+// station's frame (y along the flap normal, x across), zero on the flap's TL face y = f and
+// on the lumen wall y = w(x) = sqrt(R^2 - x^2): the shape of slot flow. Over the fluid tets
+// whose centroid lies in the TL within `half_slab` of the plane, the fraction is
+// sum |T| mean(nodal u) / sum |T| mean(u), the latter by a 4-point rule exact for quadratics.
+struct LumenResolution {
+  double captured = 0; // fraction of the profile's integral the interpolant keeps
+  int tets = 0, interior_nodes = 0;
+};
+
+LumenResolution true_lumen_resolution(const mesh::Mesh& mesh, const TbadModel& model, double s,
+                                      double half_slab) {
+  const int fluid = region_index(mesh, "fluid");
+  std::vector<char> on_boundary(mesh.points.size(), 0);
+  for (const mesh::Face& f : mesh.faces)
+    for (const Tri& t : f.triangles)
+      for (Index n : t)
+        on_boundary[n] = 1;
+  const Frame f = model.frame(s);
+  const double h = model.spec().wall_thickness;
+  auto profile = [&](const Vec3& p) {
+    const Vec3 d = p - f.origin;
+    const double a = dot(d, f.tangent), y = dot(d, f.normal), x = dot(d, f.across);
+    const double r = model.radius(s + a), face = model.flap_offset(s + a) + 0.5 * h;
+    const double wall = std::sqrt(std::max(0.0, r * r - x * x));
+    return std::max(0.0, (y - face) * (wall - y));
+  };
+  LumenResolution res;
+  double exact = 0, interpolated = 0;
+  std::set<Index> interior;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (mesh.tet_region[t] != fluid)
+      continue;
+    const Tet& tet = mesh.tets[t];
+    const Vec3 c = 0.25 * (mesh.points[tet[0]] + mesh.points[tet[1]] + mesh.points[tet[2]] +
+                           mesh.points[tet[3]]);
+    const Vec3 d = c - f.origin;
+    if (std::abs(dot(d, f.tangent)) > half_slab ||
+        dot(d, f.normal) < model.flap_offset(s) + 0.5 * h)
+      continue;
+    const double vol = mesh::signed_volume(mesh.points[tet[0]], mesh.points[tet[1]],
+                                           mesh.points[tet[2]], mesh.points[tet[3]]);
+    // 4-point rule, degree 2: points at 0.5854 towards each node from 0.1382 of the others.
+    constexpr double a = 0.5854101966249685, b = 0.1381966011250105;
+    double q = 0, nodal = 0;
+    for (int i = 0; i < 4; ++i) {
+      Vec3 p{0, 0, 0};
+      for (int j = 0; j < 4; ++j)
+        p = p + (i == j ? a : b) * mesh.points[tet[j]];
+      q += 0.25 * profile(p);
+      if (!on_boundary[tet[i]]) {
+        nodal += 0.25 * profile(mesh.points[tet[i]]);
+        interior.insert(tet[i]);
+      }
+    }
+    exact += vol * q;
+    interpolated += vol * nodal;
+    ++res.tets;
+  }
+  res.captured = exact > 0 ? interpolated / exact : 0.0;
+  res.interior_nodes = static_cast<int>(interior.size());
+  return res;
+}
+
+std::vector<LumenResolution> print_true_lumen_resolution(const CachedModel& m, int elements) {
+  const TbadModel model(variant_spec("OR", kCoarse, elements));
+  std::vector<LumenResolution> out;
+  for (int k = 1; k <= 5; ++k) {
+    const double s = model.paired_station(k);
+    // Half slab 3 mm: one global element size each side of the plane.
+    const LumenResolution r = true_lumen_resolution(m.mesh, model, s, 3e-3);
+    fmt::print("TL{} (thickness {:.2f} mm, {} elements across): {} tets, {} interior nodes, "
+               "captured {:.3f} of the slot profile\n",
+               k, model.true_lumen_thickness(s) * 1e3, elements, r.tets, r.interior_nodes,
+               r.captured);
+    out.push_back(r);
+  }
+  return out;
+}
+
+// The bound, from P1 interpolation error. On a tet T, for a quadratic q with Hessian H,
+// int_T (I q - q) = |T|/40 sum over its 6 edges of e^T H e. Here d2u/dy2 = -2; a tet of edge
+// l has sum e_y^2 = 2 l^2 when regular, so the interpolant loses l^2/10 of u per volume.
+// The mean of u over a circular segment of height t is about 0.34 t^2/6 (its thickness
+// falls off sideways), so the relative loss is 1.75 (l/t)^2; Gmsh's Delaunay tets have
+// l = 1.2 times the target size (5 tets per size^3), and the size here is t/n: a loss of
+// 2.5/n^2. We require at least 1 - 2.5/n^2 (0.72 for the default n = 3) and measure 0.77 at
+// n = 3 and 0.88 at n = 4 (printed). Sizes of t/(n-1) would keep 1 - 2.5/(n-1)^2 (0.38 at
+// n = 3), and a lumen one element thick has every node on the interface and keeps nothing.
+TEST(TbadGeometry, TrueLumenIsResolvedAcrossItsThickness) {
+  const int n = TbadSpec{}.lumen_elements;
+  ASSERT_GE(n, 3);
+  const double bound = 1.0 - 2.5 / (n * n);
+  const std::vector<LumenResolution> r = print_true_lumen_resolution(cached_tbad("OR", kCoarse), n);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_GT(r[k].tets, 10) << "TL" << k + 1;
+    EXPECT_GE(r[k].captured, bound) << "TL" << k + 1;
+  }
+}
+
+// The same measure on the uniform 3 mm mesh (sizing off), the mesh that gave no TL flow:
+// TL3..TL5 (4.3 to 4.7 mm thick) have no interior node and keep nothing, below the 0.375
+// that even 2 elements across would keep (bound above with n = 2).
+TEST(TbadGeometry, UniformMeshLeavesTheNarrowTrueLumenUnresolved) {
+  const std::vector<LumenResolution> r =
+      print_true_lumen_resolution(cached_tbad("OR", kCoarse, 0), 0);
+  for (int k = 2; k < 5; ++k)
+    EXPECT_LT(r[k].captured, 1.0 - 2.5 / 4) << "TL" << k + 1;
 }
 
 // Radius-ratio bound 0.05: Gmsh's optimizer leaves the worst tets of these meshes at 0.1 to

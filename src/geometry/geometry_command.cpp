@@ -31,6 +31,7 @@ struct GeometryOptions {
   double aao_area = NAN, dao_dist_area = NAN, arch_distal_radius = NAN, flap_start_gap = NAN;
   double station_offset = NAN, bct_radius = NAN, lcc_radius = NAN, lsa_radius = NAN;
   double branch_length = NAN;
+  int lumen_elements = -1; // -1: keep the default
   std::vector<double> tl_areas, fl_areas;
   // import
   std::string mesh, wall_mesh, lumen, wall, landmarks, units = "mm";
@@ -49,6 +50,8 @@ struct GeometryOptions {
     };
     set(s.element_size, element_size, mm);
     set(s.tear_element_size, tear_element_size, mm);
+    if (lumen_elements >= 0)
+      s.lumen_elements = lumen_elements;
     set(s.wall_thickness, wall_thickness, mm);
     set(s.flap_length, flap_length, mm);
     set(s.entry_tear.area, entry_area, mm2);
@@ -101,6 +104,11 @@ GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<Geom
                     "0.9 M fluid / 0.5 M wall tets)");
   tbad_->add_option("--tear-element-size", o.tear_element_size,
                     "element size at the tears, mm (default: 24 edges around each tear)");
+  tbad_
+      ->add_option("--lumen-elements", o.lumen_elements,
+                   "elements across the true lumen's thickness in the dissected segment "
+                   "(default 3; 0: uniform element size)")
+      ->check(CLI::Range(0, 10));
   tbad_->add_option("--wall-thickness", o.wall_thickness, "wall and flap thickness h, mm (2)");
   tbad_->add_option("--flap-length", o.flap_length, "dissection flap length, mm (200)");
   tbad_->add_option("--entry-tear-area", o.entry_area, "mm^2 (overrides the variant's)");

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <system_error>
 
@@ -20,6 +21,7 @@
 
 #include "core/error.hpp"
 #include "geometry/fsi_mesh.hpp"
+#include "geometry/lumen_sizing.hpp"
 #include "geometry/tbad_model.hpp"
 #include "mesh/gmsh_session.hpp"
 
@@ -246,7 +248,8 @@ void add_physical_groups(const TbadModel& m, const std::vector<int>& fluid,
 // a wall thickness: with one element across the hole's 2 mm wall, Delaunay left flat tets
 // whose four nodes all lie on it (radius ratio 0.02 to 0.03). The size grows back to the
 // target size over one semi-axis. Curvature sizing gives small branches about 12 edges
-// around.
+// around. In the dissected segment LumenSizing, a size callback (Gmsh takes the smallest of
+// callback, fields and curvature), puts `lumen_elements` elements across the true lumen.
 void set_mesh_sizes(const TbadModel& m) {
   const TbadSpec& s = m.spec();
   std::vector<double> fields;
@@ -283,6 +286,11 @@ void set_mesh_sizes(const TbadModel& m) {
   const int min = gmsh::model::mesh::field::add("Min");
   gmsh::model::mesh::field::setNumbers(min, "FieldsList", fields);
   gmsh::model::mesh::field::setAsBackgroundMesh(min);
+  auto lumen = std::make_shared<const LumenSizing>(m);
+  if (lumen->enabled())
+    gmsh::model::mesh::setSizeCallback([lumen](int, int, double x, double y, double z) {
+      return lumen->size((1.0 / kMm) * Vec3{x, y, z}) * kMm;
+    });
   gmsh::option::setNumber("Mesh.MeshSizeMax", s.element_size * kMm);
   gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
   gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 12);
@@ -355,6 +363,7 @@ TbadBuild build_tbad(const TbadSpec& spec, const std::filesystem::path& dir, boo
       const auto t1 = std::chrono::steady_clock::now();
       set_mesh_sizes(model);
       gmsh::model::mesh::generate(3);
+      gmsh::model::mesh::removeSizeCallback();
       build.mesh_seconds = seconds_since(t1);
       std::filesystem::remove(msh, ec);
       gmsh::write(msh.string());

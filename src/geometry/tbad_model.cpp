@@ -326,6 +326,10 @@ double TbadModel::flap_offset(double s) const {
   return monotone_cubic(offset_knots_, s);
 }
 
+double TbadModel::true_lumen_thickness(double s) const {
+  return radius(s) - flap_offset(s) - 0.5 * spec_.wall_thickness;
+}
+
 double TbadModel::paired_station(int k) const {
   for (const Station& st : stations_)
     if (st.name == std::to_string(k))

@@ -58,6 +58,9 @@ public:
   /// Signed distance of the flap's mid-surface from the centreline along Frame::normal [m];
   /// positive values narrow the true lumen.
   double flap_offset(double s) const;
+  /// True lumen thickness at the centre of the section: from the flap's TL face to the
+  /// lumen wall along Frame::normal [m] (the TL is a circular segment of this height).
+  double true_lumen_thickness(double s) const;
 
   double arch_start() const { return s_arch0_; }
   double arch_length() const { return arch_length_; }

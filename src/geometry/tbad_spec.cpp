@@ -52,6 +52,9 @@ void validate(const TbadSpec& s) {
   if (!(s.tear_element_size >= 0) || !std::isfinite(s.tear_element_size))
     input_error("tbad: tear element size is {} mm, expected >= 0 (0: automatic)",
                 s.tear_element_size * 1e3);
+  if (s.lumen_elements < 0 || s.lumen_elements > 10)
+    input_error("tbad: lumen elements is {}, expected 0 (off) to 10 elements across the true lumen",
+                s.lumen_elements);
   for (int k = 0; k < 5; ++k) {
     positive(s.tl_areas[k], fmt::format("TL{} area", k + 1).c_str(), 1e6, "mm^2");
     positive(s.fl_areas[k], fmt::format("FL{} area", k + 1).c_str(), 1e6, "mm^2");

@@ -67,6 +67,10 @@ struct TbadSpec {
   // Meshing.
   double element_size = 3e-3;   ///< target tetrahedron edge length [m]
   double tear_element_size = 0; ///< near the tears [m]; 0: from the tear size (see builder)
+  /// Elements across the true lumen's thickness: in the dissected segment the size in the
+  /// TL, through the flap's tears and beside the flap in the FL is at most the local TL
+  /// thickness over this (lumen_sizing.hpp). 0 turns it off (uniform `element_size`).
+  int lumen_elements = 3;
 };
 
 /// Sets the reference study's tear areas: OR (228 / 227 mm^2), EN (entry 62 mm^2) or EX
