@@ -1,5 +1,6 @@
 // Parametric TBAD without meshing: the layout against its own definition, the checks on bad
 // parameters, and the landmarks file.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -82,6 +83,41 @@ TEST(GeometryModel, LayoutFollowsTheStudy) {
   // Arch radius: the tightest bend is the requested one (sampled at 0.1 mm: 1 % is the
   // finite-difference error of the sampled tangent at that step, with margin).
   EXPECT_NEAR(m.min_curvature_radius(0, m.length()), spec.arch_radius, 0.01 * spec.arch_radius);
+}
+
+// The default exit (re-entry) tear sits at the flap's distal end, one ligament of
+// max(2 mm, h) from it, so the false lumen empties into the undivided aorta; the lumen keeps
+// the dissected segment's radius to the flap's end cap, so the true lumen beside and distal
+// to the tear is no narrower than at TL5. Exact relations of the layout: the tolerances are
+// rounding (1e-9 m) and the monotone cubic's flat segment (1e-9 m).
+TEST(GeometryModel, ExitTearSitsAtTheFlapsDistalEnd) {
+  for (const char* variant : {"OR", "EN", "EX"}) {
+    TbadSpec spec;
+    apply_variant(spec, variant);
+    const TbadModel m(spec);
+    const TearGeometry& exit = m.tears()[1];
+    const double margin = std::max(2e-3, spec.wall_thickness);
+    EXPECT_NEAR(m.spec().exit_tear.position, exit.axial + margin, 1e-9) << variant;
+    // Distal edge of the tear to the flap's end, along the (straight) centreline there.
+    const Vec3 end = m.frame(m.flap_end()).origin;
+    const Vec3 edge = exit.centre + exit.axial * exit.axis;
+    EXPECT_NEAR(dot(end - edge, m.frame(m.flap_end()).tangent), margin, 1e-6) << variant;
+    const double r5 = m.radius(m.paired_station(5));
+    for (double s = m.paired_station(5); s <= m.flap_end() + spec.wall_thickness; s += 0.5e-3)
+      EXPECT_NEAR(m.radius(s), r5, 1e-9) << variant << " at " << s;
+    EXPECT_NEAR(m.true_lumen_thickness(m.flap_end()), m.true_lumen_thickness(m.paired_station(5)),
+                1e-9)
+        << variant;
+  }
+  // An explicit position is kept.
+  TbadSpec spec;
+  spec.exit_tear.position = 15e-3;
+  const TbadModel m(spec);
+  EXPECT_DOUBLE_EQ(m.spec().exit_tear.position, 15e-3);
+  const Vec3 d = m.frame(m.flap_end()).origin - m.tears()[1].centre;
+  EXPECT_NEAR(dot(d, m.frame(m.flap_end()).tangent), 15e-3, 1e-6);
+  spec.exit_tear.position = -1e-3;
+  EXPECT_THAT(error_of(spec), HasSubstr("exit tear position is -1 mm, expected >= 0"));
 }
 
 TEST(GeometryModel, VariantsSetTearAreas) {

@@ -89,6 +89,7 @@ double TearGeometry::area() const {
 
 TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   validate(spec_);
+  spec_.exit_tear.position = resolved_exit_tear_position(spec_);
   const TbadSpec& s = spec_;
   const double h = s.wall_thickness;
 
@@ -186,7 +187,7 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   solve_dissected_profile();
 
   // Radius knots. The aorta tapers over the arch, widens after the LSA to the dissected
-  // segment's size, and narrows again distal to the flap to DAo_dist's.
+  // segment's size, keeps it to the flap's end, and narrows distal to it to DAo_dist's.
   const double r_aao = std::sqrt(s.aao_area / pi), r_dist = std::sqrt(s.dao_dist_area / pi);
   double s_dist = 0;
   for (const Station& st : stations_)
@@ -201,7 +202,9 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   }
   offset_knots_.push_back({s_exit, station_offset_[4]});
   offset_knots_.push_back({s_flap1_, station_offset_[4]});
-  radius_knots_.push_back({s_flap1_ + h, 0.5 * (station_radius_[4] + r_dist)});
+  // The dissected segment keeps its size to the flap's end cap: narrowing it there would
+  // narrow the true lumen alone, through which all the false lumen's flow leaves.
+  radius_knots_.push_back({s_flap1_ + h, station_radius_[4]});
   radius_knots_.push_back({s_dist - 3e-3, r_dist});
   radius_knots_.push_back({s_outlet_, r_dist});
   for (std::size_t i = 1; i < radius_knots_.size(); ++i)
@@ -273,7 +276,8 @@ void TbadModel::check_fit() const {
     const double half_width = std::sqrt(std::max(0.0, r * r - std::pow(std::abs(e) + h / 2, 2)));
     const double max_across = half_width - ligament;
     const double max_axial = std::min(t.position - ligament, s.station_offset - ligament);
-    if (g.axial <= max_axial && g.across <= max_across)
+    // 1 nm: the default exit tear sits exactly one ligament from the flap end (rounding).
+    if (g.axial <= max_axial + 1e-9 && g.across <= max_across)
       continue;
     const double a = std::min(max_axial, t.aspect * max_across);
     const double largest = a > 0 ? pi * a * a / t.aspect : 0.0;
