@@ -60,11 +60,13 @@ TEST(GeometryModel, LayoutFollowsTheStudy) {
   const TbadSpec spec;
   const TbadModel m(spec);
   const auto& tears = m.tears();
-  // The domain ends outlet_distance (35 mm) distal to the exit tear's centre, along the
-  // centreline; the last 30 mm are straight, so the chord equals the arclength there.
+  // The domain ends outlet_distance (21.6 mm) distal to the flap's end, 35 mm from the
+  // default exit tear's centre (13.4 mm from the flap's end), along the centreline; the last
+  // 30 mm are straight, so the chord equals the arclength there.
+  EXPECT_NEAR(m.length() - m.flap_end(), 21.6e-3, 1e-12);
   const Vec3 d = m.frame(m.length()).origin - tears[1].centre;
   const Vec3 t = m.frame(m.length()).tangent;
-  EXPECT_NEAR(dot(d, t), 35e-3, 1e-6);
+  EXPECT_NEAR(dot(d, t), 35e-3, 0.05e-3); // 13.40 mm + 21.6 mm, rounded to 0.1 mm
   // Entry tear just distal to the LSA, exit tear near the flap's distal end.
   EXPECT_GT(m.flap_start(), m.arch_start());
   EXPECT_LT(m.flap_start(), m.arch_start() + m.arch_length());

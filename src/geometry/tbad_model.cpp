@@ -148,7 +148,7 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   s_flap1_ = s_flap0_ + s.flap_length;
   const double s_entry = s_flap0_ + s.entry_tear.position;
   const double s_exit = s_flap1_ - s.exit_tear.position;
-  s_outlet_ = s_exit + s.outlet_distance;
+  s_outlet_ = s_flap1_ + s.outlet_distance;
   s_bend0_ = s_arch0_ + arch_length_;
   s_bend1_ = s_exit - 30e-3; // straight from 30 mm above the exit tear to the outlet
   if (!(s_bend1_ > s_bend0_ + 20e-3))
@@ -248,8 +248,8 @@ void TbadModel::lay_out_stations() {
     stations_.push_back({std::to_string(k + 1), first + k * (last - first) / 4.0});
   if (!(s_outlet_ > flap_end_wall + 10e-3))
     input_error("tbad: outlet distance {} mm ends the domain within 10 mm of the flap's distal "
-                "end (exit tear position {} mm); increase the outlet distance",
-                s.outlet_distance * 1e3, s.exit_tear.position * 1e3);
+                "end cap ({} mm thick); increase the outlet distance",
+                s.outlet_distance * 1e3, s.wall_thickness * 1e3);
   stations_.push_back({"DAo_dist", 0.5 * (flap_end_wall + s_outlet_) + 2e-3});
   stations_.push_back({"outlet", s_outlet_ - 1e-3});
 }

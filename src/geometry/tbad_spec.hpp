@@ -64,7 +64,10 @@ struct TbadSpec {
   /// Position from the flap's distal end; 0: at the end (the re-entry tear through which the
   /// false lumen empties into the undivided aorta), 13.4 mm for 227 mm^2.
   TearSpec exit_tear{227e-6, 0, 1.8};
-  double outlet_distance = 35e-3; ///< outlet cap distal to the exit tear's centre [m]
+  /// Outlet cap distal to the flap's distal end [m]. From the flap's end, not the exit tear,
+  /// so that all variants share the undivided distal aorta (21.6 mm: 35 mm from the default
+  /// OR exit tear's centre, as before the tear moved to the flap's end).
+  double outlet_distance = 21.6e-3;
 
   std::array<BranchSpec, 3> branches{BranchSpec{"BCT", 6.0e-3, 45e-3, 0.36},
                                      BranchSpec{"LCC", 3.5e-3, 45e-3, 0.5},
