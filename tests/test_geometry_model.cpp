@@ -1,5 +1,6 @@
 // Parametric TBAD without meshing: the layout against its own definition, the checks on bad
 // parameters, and the landmarks file.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -59,11 +60,13 @@ TEST(GeometryModel, LayoutFollowsTheStudy) {
   const TbadSpec spec;
   const TbadModel m(spec);
   const auto& tears = m.tears();
-  // The domain ends outlet_distance (35 mm) distal to the exit tear's centre, along the
-  // centreline; the last 30 mm are straight, so the chord equals the arclength there.
+  // The domain ends outlet_distance (21.6 mm) distal to the flap's end, 35 mm from the
+  // default exit tear's centre (13.4 mm from the flap's end), along the centreline; the last
+  // 30 mm are straight, so the chord equals the arclength there.
+  EXPECT_NEAR(m.length() - m.flap_end(), 21.6e-3, 1e-12);
   const Vec3 d = m.frame(m.length()).origin - tears[1].centre;
   const Vec3 t = m.frame(m.length()).tangent;
-  EXPECT_NEAR(dot(d, t), 35e-3, 1e-6);
+  EXPECT_NEAR(dot(d, t), 35e-3, 0.05e-3); // 13.40 mm + 21.6 mm, rounded to 0.1 mm
   // Entry tear just distal to the LSA, exit tear near the flap's distal end.
   EXPECT_GT(m.flap_start(), m.arch_start());
   EXPECT_LT(m.flap_start(), m.arch_start() + m.arch_length());
@@ -82,6 +85,41 @@ TEST(GeometryModel, LayoutFollowsTheStudy) {
   // Arch radius: the tightest bend is the requested one (sampled at 0.1 mm: 1 % is the
   // finite-difference error of the sampled tangent at that step, with margin).
   EXPECT_NEAR(m.min_curvature_radius(0, m.length()), spec.arch_radius, 0.01 * spec.arch_radius);
+}
+
+// The default exit (re-entry) tear sits at the flap's distal end, one ligament of
+// max(2 mm, h) from it, so the false lumen empties into the undivided aorta; the lumen keeps
+// the dissected segment's radius to the flap's end cap, so the true lumen beside and distal
+// to the tear is no narrower than at TL5. Exact relations of the layout: the tolerances are
+// rounding (1e-9 m) and the monotone cubic's flat segment (1e-9 m).
+TEST(GeometryModel, ExitTearSitsAtTheFlapsDistalEnd) {
+  for (const char* variant : {"OR", "EN", "EX"}) {
+    TbadSpec spec;
+    apply_variant(spec, variant);
+    const TbadModel m(spec);
+    const TearGeometry& exit = m.tears()[1];
+    const double margin = std::max(2e-3, spec.wall_thickness);
+    EXPECT_NEAR(m.spec().exit_tear.position, exit.axial + margin, 1e-9) << variant;
+    // Distal edge of the tear to the flap's end, along the (straight) centreline there.
+    const Vec3 end = m.frame(m.flap_end()).origin;
+    const Vec3 edge = exit.centre + exit.axial * exit.axis;
+    EXPECT_NEAR(dot(end - edge, m.frame(m.flap_end()).tangent), margin, 1e-6) << variant;
+    const double r5 = m.radius(m.paired_station(5));
+    for (double s = m.paired_station(5); s <= m.flap_end() + spec.wall_thickness; s += 0.5e-3)
+      EXPECT_NEAR(m.radius(s), r5, 1e-9) << variant << " at " << s;
+    EXPECT_NEAR(m.true_lumen_thickness(m.flap_end()), m.true_lumen_thickness(m.paired_station(5)),
+                1e-9)
+        << variant;
+  }
+  // An explicit position is kept.
+  TbadSpec spec;
+  spec.exit_tear.position = 15e-3;
+  const TbadModel m(spec);
+  EXPECT_DOUBLE_EQ(m.spec().exit_tear.position, 15e-3);
+  const Vec3 d = m.frame(m.flap_end()).origin - m.tears()[1].centre;
+  EXPECT_NEAR(dot(d, m.frame(m.flap_end()).tangent), 15e-3, 1e-6);
+  spec.exit_tear.position = -1e-3;
+  EXPECT_THAT(error_of(spec), HasSubstr("exit tear position is -1 mm, expected >= 0"));
 }
 
 TEST(GeometryModel, VariantsSetTearAreas) {

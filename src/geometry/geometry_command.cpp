@@ -116,10 +116,11 @@ GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<Geom
   tbad_->add_option("--entry-tear-position", o.entry_position,
                     "entry tear centre from the flap's proximal end, mm (15)");
   tbad_->add_option("--exit-tear-position", o.exit_position,
-                    "exit tear centre from the flap's distal end, mm (15)");
+                    "exit tear centre from the flap's distal end, mm (default 0: at the end, "
+                    "its axial semi-axis + max(2, h); 13.4 for 227 mm^2)");
   tbad_->add_option("--tear-aspect", o.tear_aspect, "tear length over width (1.8)");
   tbad_->add_option("--outlet-distance", o.outlet_distance,
-                    "outlet distal to the exit tear centre, mm (35)");
+                    "outlet distal to the flap's distal end, mm (21.6)");
   tbad_->add_option("--inlet-extension", o.inlet_extension, "straight inlet extension, mm (20)");
   tbad_->add_option("--ascending-length", o.ascending_length, "ascending aorta, mm (50)");
   tbad_->add_option("--ascending-bow", o.ascending_bow,

@@ -89,6 +89,7 @@ double TearGeometry::area() const {
 
 TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   validate(spec_);
+  spec_.exit_tear.position = resolved_exit_tear_position(spec_);
   const TbadSpec& s = spec_;
   const double h = s.wall_thickness;
 
@@ -147,7 +148,7 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   s_flap1_ = s_flap0_ + s.flap_length;
   const double s_entry = s_flap0_ + s.entry_tear.position;
   const double s_exit = s_flap1_ - s.exit_tear.position;
-  s_outlet_ = s_exit + s.outlet_distance;
+  s_outlet_ = s_flap1_ + s.outlet_distance;
   s_bend0_ = s_arch0_ + arch_length_;
   s_bend1_ = s_exit - 30e-3; // straight from 30 mm above the exit tear to the outlet
   if (!(s_bend1_ > s_bend0_ + 20e-3))
@@ -186,7 +187,7 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   solve_dissected_profile();
 
   // Radius knots. The aorta tapers over the arch, widens after the LSA to the dissected
-  // segment's size, and narrows again distal to the flap to DAo_dist's.
+  // segment's size, keeps it to the flap's end, and narrows distal to it to DAo_dist's.
   const double r_aao = std::sqrt(s.aao_area / pi), r_dist = std::sqrt(s.dao_dist_area / pi);
   double s_dist = 0;
   for (const Station& st : stations_)
@@ -201,7 +202,9 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   }
   offset_knots_.push_back({s_exit, station_offset_[4]});
   offset_knots_.push_back({s_flap1_, station_offset_[4]});
-  radius_knots_.push_back({s_flap1_ + h, 0.5 * (station_radius_[4] + r_dist)});
+  // The dissected segment keeps its size to the flap's end cap: narrowing it there would
+  // narrow the true lumen alone, through which all the false lumen's flow leaves.
+  radius_knots_.push_back({s_flap1_ + h, station_radius_[4]});
   radius_knots_.push_back({s_dist - 3e-3, r_dist});
   radius_knots_.push_back({s_outlet_, r_dist});
   for (std::size_t i = 1; i < radius_knots_.size(); ++i)
@@ -245,8 +248,8 @@ void TbadModel::lay_out_stations() {
     stations_.push_back({std::to_string(k + 1), first + k * (last - first) / 4.0});
   if (!(s_outlet_ > flap_end_wall + 10e-3))
     input_error("tbad: outlet distance {} mm ends the domain within 10 mm of the flap's distal "
-                "end (exit tear position {} mm); increase the outlet distance",
-                s.outlet_distance * 1e3, s.exit_tear.position * 1e3);
+                "end cap ({} mm thick); increase the outlet distance",
+                s.outlet_distance * 1e3, s.wall_thickness * 1e3);
   stations_.push_back({"DAo_dist", 0.5 * (flap_end_wall + s_outlet_) + 2e-3});
   stations_.push_back({"outlet", s_outlet_ - 1e-3});
 }
@@ -273,7 +276,8 @@ void TbadModel::check_fit() const {
     const double half_width = std::sqrt(std::max(0.0, r * r - std::pow(std::abs(e) + h / 2, 2)));
     const double max_across = half_width - ligament;
     const double max_axial = std::min(t.position - ligament, s.station_offset - ligament);
-    if (g.axial <= max_axial && g.across <= max_across)
+    // 1 nm: the default exit tear sits exactly one ligament from the flap end (rounding).
+    if (g.axial <= max_axial + 1e-9 && g.across <= max_across)
       continue;
     const double a = std::min(max_axial, t.aspect * max_across);
     const double largest = a > 0 ? pi * a * a / t.aspect : 0.0;

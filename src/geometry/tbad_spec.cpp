@@ -1,6 +1,8 @@
 #include "geometry/tbad_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/error.hpp"
 
@@ -20,6 +22,14 @@ void apply_variant(TbadSpec& spec, std::string_view variant) {
   } else {
     input_error("tbad: unknown variant '{}' (expected OR, EN or EX)", variant);
   }
+}
+
+double resolved_exit_tear_position(const TbadSpec& spec) {
+  const TearSpec& t = spec.exit_tear;
+  if (t.position > 0)
+    return t.position;
+  const double axial = std::sqrt(t.area * t.aspect / std::numbers::pi); // as TearGeometry::axial
+  return axial + std::max(2e-3, spec.wall_thickness);
 }
 
 namespace {
@@ -62,7 +72,11 @@ void validate(const TbadSpec& s) {
   for (const auto* tear : {&s.entry_tear, &s.exit_tear}) {
     const char* which = tear == &s.entry_tear ? "entry" : "exit";
     positive(tear->area, fmt::format("{} tear area", which).c_str(), 1e6, "mm^2");
-    positive(tear->position, fmt::format("{} tear position", which).c_str());
+    if (tear == &s.entry_tear)
+      positive(tear->position, "entry tear position");
+    else if (!(tear->position >= 0) || !std::isfinite(tear->position))
+      input_error("tbad: exit tear position is {} mm, expected >= 0 (0: at the flap's end)",
+                  tear->position * 1e3);
     if (!(tear->aspect >= 1 && tear->aspect <= 4))
       input_error("tbad: {} tear aspect is {}, expected 1 to 4 (axial over circumferential)", which,
                   tear->aspect);

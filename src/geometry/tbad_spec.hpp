@@ -22,8 +22,11 @@ struct BranchSpec {
 
 /// A tear: an elliptical hole through the flap, elongated along the vessel as real tears are.
 struct TearSpec {
-  double area = 0;     ///< hole area in the flap's mid-surface [m^2]
-  double position = 0; ///< centre's distance along the centreline from its end of the flap [m]
+  double area = 0; ///< hole area in the flap's mid-surface [m^2]
+  /// Centre's distance along the centreline from its end of the flap [m]. 0 (the exit
+  /// tear's default): at the flap's distal end, the tear's axial semi-axis plus
+  /// max(2 mm, wall thickness) of flap (`resolved_exit_tear_position`).
+  double position = 0;
   double aspect = 1.8; ///< axial over circumferential semi-axis, >= 1
 };
 
@@ -54,11 +57,17 @@ struct TbadSpec {
   std::array<double, 5> fl_areas{476.3e-6, 436.3e-6, 475.0e-6, 458.7e-6, 429.3e-6};
   /// Distance of station 1 (5) distal (proximal) to the entry (exit) tear's centre [m]; the
   /// other stations are evenly spaced in between. Fixed, not derived from the tear sizes, so
-  /// that the variants share their landmarks.
+  /// that the variants share their landmarks relative to the tears (EX's smaller exit tear
+  /// sits nearer the flap's end by default, and its stations with it).
   double station_offset = 24e-3;
   TearSpec entry_tear{228e-6, 15e-3, 1.8}; ///< position from the flap's proximal end
-  TearSpec exit_tear{227e-6, 15e-3, 1.8};  ///< position from the flap's distal end
-  double outlet_distance = 35e-3;          ///< outlet cap distal to the exit tear's centre [m]
+  /// Position from the flap's distal end; 0: at the end (the re-entry tear through which the
+  /// false lumen empties into the undivided aorta), 13.4 mm for 227 mm^2.
+  TearSpec exit_tear{227e-6, 0, 1.8};
+  /// Outlet cap distal to the flap's distal end [m]. From the flap's end, not the exit tear,
+  /// so that all variants share the undivided distal aorta (21.6 mm: 35 mm from the default
+  /// OR exit tear's centre, as before the tear moved to the flap's end).
+  double outlet_distance = 21.6e-3;
 
   std::array<BranchSpec, 3> branches{BranchSpec{"BCT", 6.0e-3, 45e-3, 0.36},
                                      BranchSpec{"LCC", 3.5e-3, 45e-3, 0.5},
@@ -76,6 +85,11 @@ struct TbadSpec {
 /// Sets the reference study's tear areas: OR (228 / 227 mm^2), EN (entry 62 mm^2) or EX
 /// (exit 61 mm^2). Throws InputError naming the variants for anything else.
 void apply_variant(TbadSpec& spec, std::string_view variant);
+
+/// The exit tear centre's distance from the flap's distal end [m]: `exit_tear.position`, or
+/// when that is 0 the tear's axial semi-axis plus max(2 mm, wall thickness), which puts the
+/// tear at the flap's end with one ligament of flap distal to it.
+double resolved_exit_tear_position(const TbadSpec& spec);
 
 /// Checks every value (positive, finite, in range). Throws InputError saying which value is
 /// wrong and its value in mm. TbadModel calls it, then checks that the tears fit the flap.
