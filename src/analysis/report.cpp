@@ -191,9 +191,13 @@ json report_run_data(const std::filesystem::path& run_dir,
   if (!metrics.contains("landmarks") || !metrics["landmarks"].is_object())
     input_error("'{}': no 'landmarks' object (not written by `tearflow analyze`?)",
                 metrics_file.string());
-  std::string name = std::filesystem::absolute(run_dir).lexically_normal().filename().string();
-  if (name.empty())
-    name = std::filesystem::absolute(run_dir).lexically_normal().parent_path().filename().string();
+  std::filesystem::path where = std::filesystem::absolute(run_dir).lexically_normal();
+  if (where.filename().empty())
+    where = where.parent_path();
+  // A study's runs are VARIANT/run (docs/study.md): the variant names them.
+  if (where.filename() == "run" && where.has_parent_path())
+    where = where.parent_path();
+  const std::string name = where.filename().string();
   json run{{"name", name}, {"metrics", metrics}, {"series", json::object()}};
   for (const auto& [landmark, values] : metrics["landmarks"].items())
     run["series"][landmark] = read_series(analysis_dir / (landmark + ".csv"));
