@@ -129,8 +129,7 @@ double interpolate(const std::vector<double>& t, const std::vector<double>& f, d
 geometry::Landmark landmark_named(const std::string& name) {
   geometry::Landmark l;
   l.name = name;
-  geometry::Landmark probe = l;
-  if (station_of(probe) > 0)
+  if (station_of(l) > 0)
     l.lumen = name.substr(0, 2); // "TL" or "FL"
   return l;
 }

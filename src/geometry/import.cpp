@@ -17,6 +17,7 @@
 #include "geometry/sections.hpp"
 #include "geometry/surface_mesher.hpp"
 #include "geometry/tbad_builder.hpp"
+#include "mesh/point_grid.hpp"
 #include "mesh/readers.hpp"
 
 namespace tearflow::geometry {
@@ -123,36 +124,12 @@ mesh::Mesh merge_fluid_and_wall(mesh::Mesh fluid, const mesh::Mesh& wall) {
     for (int k = 0; k < 3; ++k)
       lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
   const double tol = 1e-7 * std::sqrt(dot(hi - lo, hi - lo));
-  auto key = [tol](const Vec3& p) {
-    return std::array<long long, 3>{std::llround(p[0] / tol / 1000),
-                                    std::llround(p[1] / tol / 1000),
-                                    std::llround(p[2] / tol / 1000)};
-  };
-  // Buckets 1000 tol wide; a node and its twin land in the same or a neighbouring bucket,
-  // so look in all 27.
-  std::map<std::array<long long, 3>, std::vector<Index>> buckets;
-  for (std::size_t i = 0; i < fluid.points.size(); ++i)
-    buckets[key(fluid.points[i])].push_back(static_cast<Index>(i));
+  const mesh::PointGrid grid(fluid.points, 1000 * tol);
   std::vector<Index> map(wall.points.size());
   std::size_t shared = 0;
   for (std::size_t i = 0; i < wall.points.size(); ++i) {
     const Vec3& p = wall.points[i];
-    const auto k = key(p);
-    Index twin = -1;
-    for (long long dx = -1; dx <= 1 && twin < 0; ++dx)
-      for (long long dy = -1; dy <= 1 && twin < 0; ++dy)
-        for (long long dz = -1; dz <= 1 && twin < 0; ++dz) {
-          const auto it = buckets.find({k[0] + dx, k[1] + dy, k[2] + dz});
-          if (it == buckets.end())
-            continue;
-          for (Index j : it->second) {
-            const Vec3 d = fluid.points[j] - p;
-            if (dot(d, d) <= tol * tol) {
-              twin = j;
-              break;
-            }
-          }
-        }
+    const Index twin = grid.find(p, tol);
     if (twin >= 0) {
       map[i] = twin;
       ++shared;

@@ -30,6 +30,7 @@
 
 #include "core/error.hpp"
 #include "mesh/gmsh_session.hpp"
+#include "mesh/point_grid.hpp"
 
 namespace tearflow::geometry {
 
@@ -112,35 +113,18 @@ MergedFaces merge_points(const std::vector<const FaceSurface*>& faces) {
     for (const Vec3& p : f->points)
       for (int k = 0; k < 3; ++k)
         lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
-  const double tol = 1e-7 * std::sqrt(dot(hi - lo, hi - lo)), cell = 1000 * tol;
-  auto key = [cell](const Vec3& p) {
-    return std::array<long long, 3>{std::llround(p[0] / cell), std::llround(p[1] / cell),
-                                    std::llround(p[2] / cell)};
-  };
-  // A point and its twin land in the same or a neighbouring bucket: look in all 27.
-  std::map<std::array<long long, 3>, std::vector<Index>> buckets;
+  const double tol = 1e-7 * std::sqrt(dot(hi - lo, hi - lo));
   MergedFaces m;
+  mesh::PointGrid grid(m.points, 1000 * tol);
   for (const FaceSurface* f : faces) {
     std::vector<Index> map(f->points.size());
     for (std::size_t i = 0; i < f->points.size(); ++i) {
       const Vec3& p = f->points[i];
-      const auto k = key(p);
-      Index twin = -1;
-      for (long long dx = -1; dx <= 1 && twin < 0; ++dx)
-        for (long long dy = -1; dy <= 1 && twin < 0; ++dy)
-          for (long long dz = -1; dz <= 1 && twin < 0; ++dz) {
-            const auto it = buckets.find({k[0] + dx, k[1] + dy, k[2] + dz});
-            if (it != buckets.end())
-              for (Index j : it->second)
-                if (const Vec3 d = m.points[j] - p; dot(d, d) <= tol * tol) {
-                  twin = j;
-                  break;
-                }
-          }
+      Index twin = grid.find(p, tol);
       if (twin < 0) {
         twin = static_cast<Index>(m.points.size());
         m.points.push_back(p);
-        buckets[k].push_back(twin);
+        grid.insert(twin);
       }
       map[i] = twin;
     }

@@ -3,56 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <unordered_map>
 
 #include "core/error.hpp"
+#include "mesh/point_grid.hpp"
 
 namespace tearflow::mesh {
-
-namespace {
-
-/// Nodes of `points` by grid cell of size `cell`, for coincidence queries.
-class PointGrid {
-public:
-  PointGrid(const std::vector<Vec3>& points, double cell) : points_(points), cell_(cell) {
-    for (size_t i = 0; i < points.size(); ++i)
-      cells_.emplace(key(points[i]), static_cast<Index>(i));
-  }
-  /// The point within `tol` of x, or -1.
-  Index find(const Vec3& x, double tol) const {
-    const auto [i, j, k] = cell(x);
-    for (long di = -1; di <= 1; ++di)
-      for (long dj = -1; dj <= 1; ++dj)
-        for (long dk = -1; dk <= 1; ++dk) {
-          const auto range = cells_.equal_range(hash(i + di, j + dj, k + dk));
-          for (auto it = range.first; it != range.second; ++it) {
-            const Vec3 d = points_[it->second] - x;
-            if (dot(d, d) <= tol * tol)
-              return it->second;
-          }
-        }
-    return -1;
-  }
-
-private:
-  std::array<long, 3> cell(const Vec3& x) const {
-    return {std::lround(std::floor(x[0] / cell_)), std::lround(std::floor(x[1] / cell_)),
-            std::lround(std::floor(x[2] / cell_))};
-  }
-  static std::uint64_t hash(long i, long j, long k) {
-    return static_cast<std::uint64_t>(i) * 73856093u ^ static_cast<std::uint64_t>(j) * 19349663u ^
-           static_cast<std::uint64_t>(k) * 83492791u;
-  }
-  std::uint64_t key(const Vec3& x) const {
-    const auto [i, j, k] = cell(x);
-    return hash(i, j, k);
-  }
-  const std::vector<Vec3>& points_;
-  double cell_;
-  std::unordered_multimap<std::uint64_t, Index> cells_;
-};
-
-} // namespace
 
 Mesh merge_fluid_and_wall(const Mesh& fluid, const Mesh& wall) {
   const std::string sources =
