@@ -215,23 +215,31 @@ std::vector<std::string> face_names(const mesh::Mesh& m) {
   return names;
 }
 
+// The built model's faces exported into `dir` and imported again (its triangles kept, or
+// remeshed at its element size): the mesh read back, checked to have the model's regions and
+// named faces.
+mesh::Mesh reimport_faces(const CachedModel& m, const fs::path& dir, bool remesh) {
+  export_tbad_faces(m, dir);
+  ImportOptions o;
+  o.lumen = dir / "lumen";
+  o.wall = dir / "wall";
+  o.landmarks = m.dir / kLandmarksFile;
+  o.element_size = kCoarse;
+  o.remesh_surfaces = remesh;
+  import_geometry(o, dir / "out");
+  mesh::Mesh back = read_fsi_mesh(dir / "out" / kMeshFile, 1e-3);
+  EXPECT_EQ(back.regions, (std::vector<std::string>{"fluid", "wall"}));
+  EXPECT_EQ(face_names(back), face_names(m.mesh));
+  return back;
+}
+
 // Imported again on its own triangles, the TBAD must be the same model: regions fluid and
 // wall, the same named faces, shared interface nodes, the same volumes and tear areas,
 // every landmark in the fluid (import checks it), usable tets.
 TEST(GeometryImport, FaceSurfacesOfTheTbadKeptGiveTheSameModel) {
   TempDir dir;
   const CachedModel m = cached_tbad("OR", kCoarse);
-  export_tbad_faces(m, dir.path);
-  ImportOptions o;
-  o.lumen = dir.path / "lumen";
-  o.wall = dir.path / "wall";
-  o.landmarks = m.dir / kLandmarksFile;
-  o.element_size = kCoarse;
-  o.remesh_surfaces = false;
-  import_geometry(o, dir.path / "out");
-  const mesh::Mesh back = read_fsi_mesh(dir.path / "out" / kMeshFile, 1e-3);
-  EXPECT_EQ(back.regions, (std::vector<std::string>{"fluid", "wall"}));
-  EXPECT_EQ(face_names(back), face_names(m.mesh));
+  const mesh::Mesh back = reimport_faces(m, dir.path, false);
   const MeshReport before = check_fsi_mesh(m.mesh), after = check_fsi_mesh(back);
   EXPECT_EQ(after.interface_triangles, before.interface_triangles);
   EXPECT_EQ(after.interface_nodes, before.interface_nodes);
@@ -263,16 +271,7 @@ TEST(GeometryImport, FaceSurfacesOfTheTbadAreRemeshedAtTheTargetSize) {
   // imported surfaces knows only the target size, and re-chording the finer true-lumen
   // triangles at 3 mm leaves slivers (radius ratio 0.007) where they meet the coarse rest.
   const CachedModel m = cached_tbad("OR", kCoarse, 0);
-  export_tbad_faces(m, dir.path);
-  ImportOptions o;
-  o.lumen = dir.path / "lumen";
-  o.wall = dir.path / "wall";
-  o.landmarks = m.dir / kLandmarksFile;
-  o.element_size = kCoarse;
-  import_geometry(o, dir.path / "out");
-  const mesh::Mesh back = read_fsi_mesh(dir.path / "out" / kMeshFile, 1e-3);
-  EXPECT_EQ(back.regions, (std::vector<std::string>{"fluid", "wall"}));
-  EXPECT_EQ(face_names(back), face_names(m.mesh));
+  const mesh::Mesh back = reimport_faces(m, dir.path, true);
   const MeshReport before = check_fsi_mesh(m.mesh), after = check_fsi_mesh(back);
   EXPECT_GT(after.interface_nodes, 0u);
   // The remeshed surfaces' nodes lie on the input triangles, so the new surface re-chords
