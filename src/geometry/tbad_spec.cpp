@@ -48,6 +48,8 @@ void validate(const TbadSpec& s) {
   positive(s.arch_distal_radius, "arch distal radius");
   positive(s.flap_start_gap, "flap start gap");
   positive(s.flap_length, "flap length");
+  positive(s.taper_length, "flap taper length");
+  positive(s.fl_end_depth, "false lumen end depth");
   positive(s.wall_thickness, "wall thickness (h)");
   positive(s.station_offset, "station offset");
   positive(s.outlet_distance, "outlet distance");
