@@ -77,8 +77,9 @@ void validate(const TbadSpec& s) {
     if (tear == &s.entry_tear)
       positive(tear->position, "entry tear position");
     else if (!(tear->position >= 0) || !std::isfinite(tear->position))
-      input_error("tbad: exit tear position is {} mm, expected >= 0 (0: at the flap's end)",
-                  tear->position * 1e3);
+      input_error(
+          "tbad: exit tear position is {} mm, expected >= 0 (0: just proximal to the flap's taper)",
+          tear->position * 1e3);
     if (!(tear->aspect >= 1 && tear->aspect <= 4))
       input_error("tbad: {} tear aspect is {}, expected 1 to 4 (axial over circumferential)", which,
                   tear->aspect);

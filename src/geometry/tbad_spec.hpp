@@ -50,8 +50,9 @@ struct TbadSpec {
   double dao_dist_area = 365.5e-6;     ///< lumen area distal to the dissection [m^2]
 
   // Dissection: the flap starts `flap_start_gap` distal to the LSA's outer wall and runs
-  // `flap_length` to the start of its distal taper, where it re-attaches to the outer wall:
-  // over `taper_length` it moves to the false lumen's side, the FL narrowing to
+  // `flap_length` to the start of its distal taper, where it re-attaches to the outer wall
+  // (from TL5 to the exit tear it moves to the vessel's centre, so that the TL beside the
+  // tear is as wide as the FL): over `taper_length` it moves on to the FL's side, narrowing it to
   // `fl_end_depth` at its end cap and the TL widening to about DAo_dist's area. The false
   // lumen is closed (a blind sac) at both ends: the lumina communicate only through the tears.
   double flap_start_gap = 6e-3; ///< [m]
@@ -65,7 +66,7 @@ struct TbadSpec {
   /// Distance of station 1 (5) distal (proximal) to the entry (exit) tear's centre [m]; the
   /// other stations are evenly spaced in between. Fixed, not derived from the tear sizes, so
   /// that the variants share their landmarks relative to the tears (EX's smaller exit tear
-  /// sits nearer the flap's end by default, and its stations with it).
+  /// sits nearer the flap's taper by default, and its stations with it).
   double station_offset = 24e-3;
   TearSpec entry_tear{228e-6, 15e-3, 1.8}; ///< position from the flap's proximal end
   /// Position from the start of the flap's distal taper; 0: just proximal to it (the
