@@ -6,6 +6,7 @@
 #include <fstream>
 #include <numbers>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -60,13 +61,16 @@ TEST(GeometryModel, LayoutFollowsTheStudy) {
   const TbadSpec spec;
   const TbadModel m(spec);
   const auto& tears = m.tears();
-  // The domain ends outlet_distance (21.6 mm) distal to the flap's end, 35 mm from the
-  // default exit tear's centre (13.4 mm from the flap's end), along the centreline; the last
-  // 30 mm are straight, so the chord equals the arclength there.
+  // The domain ends outlet_distance (21.6 mm) distal to the false lumen's end, which is
+  // taper_length (25 mm) distal to the taper's start, 13.4 mm from the default exit tear's
+  // centre: 60 mm from the tear's centre along the centreline (the study's domain ends 35 mm
+  // distal to it; DAo_dist, one lumen, must lie past the FL's end). The last 30 mm above
+  // the tear and all beyond it are straight, so the chord equals the arclength there.
   EXPECT_NEAR(m.length() - m.flap_end(), 21.6e-3, 1e-12);
+  EXPECT_NEAR(m.flap_end() - m.taper_start(), 25e-3, 1e-12);
   const Vec3 d = m.frame(m.length()).origin - tears[1].centre;
   const Vec3 t = m.frame(m.length()).tangent;
-  EXPECT_NEAR(dot(d, t), 35e-3, 0.05e-3); // 13.40 mm + 21.6 mm, rounded to 0.1 mm
+  EXPECT_NEAR(dot(d, t), 60e-3, 0.05e-3); // 13.40 + 25 + 21.6 mm, rounded to 0.1 mm
   // Entry tear just distal to the LSA, exit tear near the flap's distal end.
   EXPECT_GT(m.flap_start(), m.arch_start());
   EXPECT_LT(m.flap_start(), m.arch_start() + m.arch_length());
@@ -87,39 +91,78 @@ TEST(GeometryModel, LayoutFollowsTheStudy) {
   EXPECT_NEAR(m.min_curvature_radius(0, m.length()), spec.arch_radius, 0.01 * spec.arch_radius);
 }
 
-// The default exit (re-entry) tear sits at the flap's distal end, one ligament of
-// max(2 mm, h) from it, so the false lumen empties into the undivided aorta; the lumen keeps
-// the dissected segment's radius to the flap's end cap, so the true lumen beside and distal
-// to the tear is no narrower than at TL5. Exact relations of the layout: the tolerances are
-// rounding (1e-9 m) and the monotone cubic's flat segment (1e-9 m).
-TEST(GeometryModel, ExitTearSitsAtTheFlapsDistalEnd) {
+// The distal re-attachment (docs/geometry.md, "The flap's distal taper"). The default exit
+// tear sits just proximal to the taper, one ligament of max(2 mm, h) of flat flap from it;
+// the flap is flat across the tear and over the taper moves to the false lumen's side until
+// the FL is fl_end_depth deep at its end cap, where the TL has DAo_dist's area. All the
+// descending flow leaves the FL through the tear and passes the TL distal to it, so the TL
+// must never be narrower there than beside the tear, and there no narrower than the tear
+// (the tear, not the model, is the constriction). Exact relations of the layout: tolerances
+// are rounding (1e-9 m), the bisections (1e-9 m, 1e-12 m^2) and the centreline's
+// Simpson-integrated sampling (1e-6 m).
+TEST(GeometryModel, FlapTapersToTheWallDistalToTheExitTear) {
   for (const char* variant : {"OR", "EN", "EX"}) {
     TbadSpec spec;
     apply_variant(spec, variant);
     const TbadModel m(spec);
+    const double h = spec.wall_thickness;
     const TearGeometry& exit = m.tears()[1];
-    const double margin = std::max(2e-3, spec.wall_thickness);
+    const double margin = std::max(2e-3, h);
     EXPECT_NEAR(m.spec().exit_tear.position, exit.axial + margin, 1e-9) << variant;
-    // Distal edge of the tear to the flap's end, along the (straight) centreline there.
-    const Vec3 end = m.frame(m.flap_end()).origin;
-    const Vec3 edge = exit.centre + exit.axial * exit.axis;
-    EXPECT_NEAR(dot(end - edge, m.frame(m.flap_end()).tangent), margin, 1e-6) << variant;
-    const double r5 = m.radius(m.paired_station(5));
-    for (double s = m.paired_station(5); s <= m.flap_end() + spec.wall_thickness; s += 0.5e-3)
-      EXPECT_NEAR(m.radius(s), r5, 1e-9) << variant << " at " << s;
-    EXPECT_NEAR(m.true_lumen_thickness(m.flap_end()), m.true_lumen_thickness(m.paired_station(5)),
-                1e-9)
+    EXPECT_NEAR(m.flap_end() - m.taper_start(), spec.taper_length, 1e-12) << variant;
+    // Distal edge of the tear to the taper's start, along the (straight) centreline there.
+    const Frame ft = m.frame(m.taper_start());
+    EXPECT_NEAR(dot(ft.origin - (exit.centre + exit.axial * exit.axis), ft.tangent), margin, 1e-6)
         << variant;
+    // Flat across the tear (the hole is cut and measured in a flat flap), at the centre.
+    const double s_exit = m.taper_start() - m.spec().exit_tear.position;
+    for (double s = s_exit - exit.axial; s <= m.taper_start(); s += 0.5e-3)
+      EXPECT_NEAR(m.flap_offset(s), 0, 1e-9) << variant << " at " << s;
+    // The FL closes to fl_end_depth at its end cap; the TL there has DAo_dist's area.
+    const double r_end = m.radius(m.flap_end()), e_end = m.flap_offset(m.flap_end());
+    EXPECT_NEAR(r_end + e_end - 0.5 * h, spec.fl_end_depth, 1e-9) << variant;
+    EXPECT_NEAR(circular_segment_area(r_end, e_end + 0.5 * h), spec.dao_dist_area, 1e-12)
+        << variant;
+    // The TL from the tear to the FL's end: never narrower than beside the tear's distal rim,
+    // which is wider than the tear; the flap moves monotonically to the FL's side.
+    const double s_rim = s_exit + exit.axial;
+    auto tl_area = [&](double s) {
+      return circular_segment_area(m.radius(s), m.flap_offset(s) + 0.5 * h);
+    };
+    EXPECT_GT(tl_area(s_rim), spec.exit_tear.area) << variant;
+    double previous = tl_area(s_rim), e_prev = m.flap_offset(s_rim);
+    for (double s = s_rim; s <= m.flap_end(); s += 0.5e-3) {
+      EXPECT_GE(tl_area(s), previous - 1e-12) << variant << " at " << s;
+      EXPECT_LE(m.flap_offset(s), e_prev + 1e-12) << variant << " at " << s;
+      previous = tl_area(s);
+      e_prev = m.flap_offset(s);
+    }
+    // Past the end cap the undivided lumen narrows to DAo_dist's radius, no further.
+    const double r_dist = std::sqrt(spec.dao_dist_area / pi);
+    for (double s = m.flap_end(); s <= m.length(); s += 0.5e-3)
+      EXPECT_GE(m.radius(s), r_dist - 1e-9) << variant << " at " << s;
+    if (std::string(variant) == "OR")
+      for (double s = m.paired_station(5); s <= m.flap_end() + 2e-3; s += 2e-3)
+        fmt::print("OR d = {:5.1f} mm from TL5: R {:.2f} mm, flap offset {:+.2f} mm, TL {:.1f} "
+                   "mm^2, FL depth {:.2f} mm\n",
+                   (s - m.paired_station(5)) * 1e3, m.radius(s) * 1e3, m.flap_offset(s) * 1e3,
+                   tl_area(s) * 1e6, (m.radius(s) + m.flap_offset(s) - 0.5 * h) * 1e3);
   }
-  // An explicit position is kept.
+  // An explicit position is kept (from the taper's start); a negative one is an error.
   TbadSpec spec;
   spec.exit_tear.position = 15e-3;
   const TbadModel m(spec);
   EXPECT_DOUBLE_EQ(m.spec().exit_tear.position, 15e-3);
-  const Vec3 d = m.frame(m.flap_end()).origin - m.tears()[1].centre;
-  EXPECT_NEAR(dot(d, m.frame(m.flap_end()).tangent), 15e-3, 1e-6);
+  const Vec3 d = m.frame(m.taper_start()).origin - m.tears()[1].centre;
+  EXPECT_NEAR(dot(d, m.frame(m.taper_start()).tangent), 15e-3, 1e-6);
   spec.exit_tear.position = -1e-3;
   EXPECT_THAT(error_of(spec), HasSubstr("exit tear position is -1 mm, expected >= 0"));
+  spec = TbadSpec{};
+  spec.fl_end_depth = 15e-3;
+  EXPECT_THAT(error_of(spec), HasSubstr("false lumen end depth 15 mm must be less than"));
+  spec = TbadSpec{};
+  spec.taper_length = 0;
+  EXPECT_THAT(error_of(spec), HasSubstr("flap taper length is 0 mm, expected a positive number"));
 }
 
 TEST(GeometryModel, VariantsSetTearAreas) {
@@ -135,9 +178,10 @@ TEST(GeometryModel, VariantsSetTearAreas) {
 
 TEST(GeometryModel, TearLargerThanTheFlapIsAnError) {
   TbadSpec s;
-  s.exit_tear.area = 400e-6;
+  // 800 mm^2: the flap is at the vessel's centre at the exit tear, as wide as the lumen.
+  s.exit_tear.area = 800e-6;
   const std::string e = error_of(s);
-  EXPECT_THAT(e, HasSubstr("exit tear area 400.0 mm^2 is larger than the flap can hold"));
+  EXPECT_THAT(e, HasSubstr("exit tear area 800.0 mm^2 is larger than the flap can hold"));
   EXPECT_THAT(e, HasSubstr("the largest exit tear that fits is"));
   // The largest area it names does fit.
   const auto at = e.find("fits is ");

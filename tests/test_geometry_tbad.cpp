@@ -242,12 +242,14 @@ TEST(TbadGeometry, TrueLumenIsResolvedAcrossItsThickness) {
 }
 
 // The same measure on the uniform 3 mm mesh (sizing off), the mesh that gave no TL flow:
-// TL3..TL5 (4.3 to 4.7 mm thick) have no interior node and keep nothing, below the 0.375
-// that even 2 elements across would keep (bound above with n = 2).
+// TL3 and TL4 (4.7 and 4.3 mm thick) have no interior node and keep nothing, below the
+// 0.375 that even 2 elements across would keep (bound above with n = 2). (TL5, as thin,
+// now keeps 0.45: distal to it the TL widens towards the exit tear, 6.5 mm thick at the
+// slab's distal end 3 mm away, and the slab reaches interior nodes there.)
 TEST(TbadGeometry, UniformMeshLeavesTheNarrowTrueLumenUnresolved) {
   const std::vector<LumenResolution> r =
       print_true_lumen_resolution(cached_tbad("OR", kCoarse, 0), 0);
-  for (int k = 2; k < 5; ++k)
+  for (int k = 2; k < 4; ++k)
     EXPECT_LT(r[k].captured, 1.0 - 2.5 / 4) << "TL" << k + 1;
 }
 

@@ -30,7 +30,7 @@ struct GeometryOptions {
   double ascending_length = NAN, ascending_bow = NAN, arch_radius = NAN, descending_bend = NAN;
   double aao_area = NAN, dao_dist_area = NAN, arch_distal_radius = NAN, flap_start_gap = NAN;
   double station_offset = NAN, bct_radius = NAN, lcc_radius = NAN, lsa_radius = NAN;
-  double branch_length = NAN;
+  double branch_length = NAN, taper_length = NAN, fl_end_depth = NAN;
   int lumen_elements = -1; // -1: keep the default
   std::vector<double> tl_areas, fl_areas;
   // import
@@ -54,6 +54,8 @@ struct GeometryOptions {
       s.lumen_elements = lumen_elements;
     set(s.wall_thickness, wall_thickness, mm);
     set(s.flap_length, flap_length, mm);
+    set(s.taper_length, taper_length, mm);
+    set(s.fl_end_depth, fl_end_depth, mm);
     set(s.entry_tear.area, entry_area, mm2);
     set(s.exit_tear.area, exit_area, mm2);
     set(s.entry_tear.position, entry_position, mm);
@@ -110,17 +112,23 @@ GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<Geom
                    "(default 3; 0: uniform element size)")
       ->check(CLI::Range(0, 10));
   tbad_->add_option("--wall-thickness", o.wall_thickness, "wall and flap thickness h, mm (2)");
-  tbad_->add_option("--flap-length", o.flap_length, "dissection flap length, mm (200)");
+  tbad_->add_option("--flap-length", o.flap_length,
+                    "dissection flap from its start to its distal taper, mm (200)");
+  tbad_->add_option("--taper-length", o.taper_length,
+                    "distal taper over which the flap re-attaches to the wall, mm (25)");
+  tbad_->add_option("--fl-end-depth", o.fl_end_depth,
+                    "false lumen depth at its distal end cap, mm (4)");
   tbad_->add_option("--entry-tear-area", o.entry_area, "mm^2 (overrides the variant's)");
   tbad_->add_option("--exit-tear-area", o.exit_area, "mm^2 (overrides the variant's)");
   tbad_->add_option("--entry-tear-position", o.entry_position,
                     "entry tear centre from the flap's proximal end, mm (15)");
   tbad_->add_option("--exit-tear-position", o.exit_position,
-                    "exit tear centre from the flap's distal end, mm (default 0: at the end, "
-                    "its axial semi-axis + max(2, h); 13.4 for 227 mm^2)");
+                    "exit tear centre from the start of the flap's distal taper, mm (default "
+                    "0: just proximal to it, its axial semi-axis + max(2, h); 13.4 for 227 "
+                    "mm^2)");
   tbad_->add_option("--tear-aspect", o.tear_aspect, "tear length over width (1.8)");
   tbad_->add_option("--outlet-distance", o.outlet_distance,
-                    "outlet distal to the flap's distal end, mm (21.6)");
+                    "outlet distal to the false lumen's end, mm (21.6)");
   tbad_->add_option("--inlet-extension", o.inlet_extension, "straight inlet extension, mm (20)");
   tbad_->add_option("--ascending-length", o.ascending_length, "ascending aorta, mm (50)");
   tbad_->add_option("--ascending-bow", o.ascending_bow,

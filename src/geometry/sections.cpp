@@ -81,10 +81,20 @@ struct UnionFind {
 int Section::piece_containing(const Vec3& p) const {
   for (std::size_t i = 0; i < polygons.size(); ++i) {
     // The polygon's own normal direction does not matter for containment: use its plane.
-    if (polygons[i].size() < 3)
+    // The polygon's area vector (Newell): a degenerate polygon (a tet touching the plane in
+    // an edge, e.g. through mesh nodes on a symmetry plane) has none and contains nothing;
+    // its first three points' normal had an arbitrary direction and contained any point.
+    const std::vector<Vec3>& q = polygons[i];
+    if (q.size() < 3)
       continue;
-    Vec3 n = cross(polygons[i][1] - polygons[i][0], polygons[i][2] - polygons[i][0]);
-    if (!(dot(n, n) > 0))
+    Vec3 n{0, 0, 0};
+    double extent = 0;
+    for (std::size_t k = 1; k + 1 < q.size(); ++k) {
+      n = n + cross(q[k] - q[0], q[k + 1] - q[0]);
+      extent = std::max(extent, dot(q[k] - q[0], q[k] - q[0]));
+    }
+    extent = std::max(extent, dot(q.back() - q[0], q.back() - q[0]));
+    if (!(std::sqrt(dot(n, n)) > 1e-9 * extent))
       continue;
     if (polygon_contains(polygons[i], p, unit(n)))
       return piece_of[i];

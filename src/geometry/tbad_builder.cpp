@@ -55,9 +55,13 @@ std::vector<double> placement(const Vec3& origin, const Vec3& ex, const Vec3& ey
   return a;
 }
 
+// A circle in the cross-section at `f`. It starts (its seam, and the lofted surface's seam
+// line) on the flap's normal, at the true lumen's far wall, where the flap never reaches:
+// started across the flap, the seam met the flap's edge wherever the flap crosses the
+// centre (beside the exit tear) and Delaunay left wall slivers there (radius ratio 0.006).
 int circle_wire(const Frame& f, double radius) {
   const int c = occ::addCircle(0, 0, 0, radius * kMm);
-  occ::affineTransform({{1, c}}, placement(f.origin, f.across, f.normal, f.tangent));
+  occ::affineTransform({{1, c}}, placement(f.origin, f.normal, -1.0 * f.across, f.tangent));
   return occ::addWire({c});
 }
 
@@ -113,15 +117,24 @@ int end_cutter(const Frame& f, double r) {
 // Lumen (offset 0) or outer wall (offset h): the swept aorta, cut at the caps, fused with
 // the branch tubes.
 int vessel(const TbadModel& m, double offset, const char* what) {
-  std::vector<int> wires;
-  for (double s : section_positions(-kLoftOverrun, m.length() + kLoftOverrun))
-    wires.push_back(circle_wire(m.frame(s), m.radius(s) + offset));
-  const int aorta = loft(wires, what);
+  auto lofted = [&](double s0, double s1) {
+    std::vector<int> wires;
+    for (double s : section_positions(s0, s1))
+      wires.push_back(circle_wire(m.frame(s), m.radius(s) + offset));
+    return loft(wires, what);
+  };
+  DimTags out;
+  std::vector<DimTags> map;
+  // Two lofts joined on the straight centreline above the exit tear: one loft through all
+  // the sections (the domain lengthened by the flap's distal taper) came out with parts of
+  // the lumen left in the wall or in pieces after the booleans.
+  const double split = m.paired_station(5) - kSectionSpacing;
+  occ::fuse({{3, lofted(-kLoftOverrun, split)}}, {{3, lofted(split, m.length() + kLoftOverrun)}},
+            out, map);
+  const int aorta = single_volume(out, what);
   Frame in = m.frame(0);
   in.tangent = -1.0 * in.tangent;
   in.across = -1.0 * in.across; // keep the frame right-handed
-  DimTags out;
-  std::vector<DimTags> map;
   occ::cut({{3, aorta}},
            {{3, end_cutter(in, m.radius(0) + offset)},
             {3, end_cutter(m.frame(m.length()), m.radius(m.length()) + offset)}},
@@ -137,21 +150,51 @@ int vessel(const TbadModel& m, double offset, const char* what) {
   return single_volume(out, what);
 }
 
+// A box along the flap over [s0, s1]: its sections span the lumen across (radius + `wide`)
+// and reach along the flap's normal from beyond the wall on the FL's side to the flap's TL
+// face (side +1) or FL face (side -1). The flap's faces sit flap_half_thickness from its
+// mid-surface along the section's normal, so the flap is h thick where it slopes.
+// Two lofts, fused: every kSectionSpacing to `dense`, and from there (on the straight
+// centreline above the exit tear) every kTaperSpacing, where the flap crosses the vessel
+// within 12-25 mm (TL5 to the exit tear, and the distal taper); a loft through 6 mm
+// sections would cut those curves short, and one loft through both spacings (or dense
+// sections over the arch) overshoots and came out inverted or in pieces.
+constexpr double kTaperSpacing = 1.5e-3;
+constexpr double kBoxMargin = 4e-3; // the boxes' reach beyond the lumen [m]
+
+int flap_box(const TbadModel& m, double s0, double s1, double dense, double wide, int side,
+             const char* what) {
+  auto wires = [&](double a, double b, double spacing) {
+    const int n = std::max(2, static_cast<int>(std::ceil((b - a) / spacing)) + 1);
+    std::vector<int> w;
+    for (int i = 0; i < n; ++i) {
+      const double s = a + (b - a) * i / (n - 1);
+      const double r = m.radius(s) + wide,
+                   face = m.flap_offset(s) + side * m.flap_half_thickness(s);
+      w.push_back(rectangle_wire(m.frame(s), r, -m.radius(s) - wide - kBoxMargin, face));
+    }
+    return w;
+  };
+  if (!(dense > s0 + kSectionSpacing && dense < s1))
+    return loft(wires(s0, s1, kSectionSpacing), what);
+  const int proximal = loft(wires(s0, dense, kSectionSpacing), what);
+  const int distal = loft(wires(dense, s1, kTaperSpacing), what);
+  DimTags out;
+  std::vector<DimTags> map;
+  occ::fuse({{3, proximal}}, {{3, distal}}, out, map);
+  return single_volume(out, what);
+}
+
 // The flap with the false lumen's end caps: a box over [s0 - h, s1 + h] reaching from the
 // flap's TL face through the FL and beyond the wall, minus a box over [s0, s1] reaching from
 // the flap's FL face; then intersected with the lumen.
 int flap_with_caps(const TbadModel& m, int lumen) {
-  const double h = m.spec().wall_thickness, margin = 4e-3;
-  std::vector<int> outer, inner;
-  for (double s : section_positions(m.flap_start() - h, m.flap_end() + h)) {
-    const double r = m.radius(s) + margin, e = m.flap_offset(s);
-    outer.push_back(rectangle_wire(m.frame(s), r, -r - margin, e + 0.5 * h));
-  }
-  for (double s : section_positions(m.flap_start(), m.flap_end())) {
-    const double r = m.radius(s) + 2 * margin, e = m.flap_offset(s);
-    inner.push_back(rectangle_wire(m.frame(s), r, -r - margin, e - 0.5 * h));
-  }
-  const int outer_box = loft(outer, "flap box"), inner_box = loft(inner, "false lumen box");
+  const double h = m.spec().wall_thickness;
+  const double dense = m.paired_station(5) - kSectionSpacing;
+  const int outer_box =
+      flap_box(m, m.flap_start() - h, m.flap_end() + h, dense, kBoxMargin, +1, "flap box");
+  const int inner_box =
+      flap_box(m, m.flap_start(), m.flap_end(), dense, 2 * kBoxMargin, -1, "false lumen box");
   DimTags out, lumen_copy;
   std::vector<DimTags> map;
   occ::cut({{3, outer_box}}, {{3, inner_box}}, out, map);

@@ -76,6 +76,18 @@ std::array<double, 2> split_circle(double tl, double fl, double h) {
   return {r, chord_for_tl(r) - 0.5 * h};
 }
 
+// Radius of a circular lumen whose false lumen, beyond a flap of thickness h, is `depth`
+// deep (flap to wall) and whose true lumen has area tl: the TL is the circle less a segment
+// of height depth + h, so its area grows with the radius; bisection.
+double radius_with_true_lumen(double tl, double depth, double h) {
+  double lo = depth + h, hi = depth + h + std::sqrt(tl / pi) + 1.0;
+  for (int it = 0; it < 200; ++it) {
+    const double r = 0.5 * (lo + hi);
+    (circular_segment_area(r, depth + h - r) < tl ? lo : hi) = r;
+  }
+  return 0.5 * (lo + hi);
+}
+
 } // namespace
 
 double circular_segment_area(double r, double d) {
@@ -145,9 +157,10 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
     const double r_outer = s.arch_distal_radius + h;
     s_flap0_ = s_lsa + (lsa.radius + h) / sn + std::max(0.0, r_outer * c / sn) + s.flap_start_gap;
   }
-  s_flap1_ = s_flap0_ + s.flap_length;
+  s_taper0_ = s_flap0_ + s.flap_length;
+  s_flap1_ = s_taper0_ + s.taper_length;
   const double s_entry = s_flap0_ + s.entry_tear.position;
-  const double s_exit = s_flap1_ - s.exit_tear.position;
+  const double s_exit = s_taper0_ - s.exit_tear.position;
   s_outlet_ = s_flap1_ + s.outlet_distance;
   s_bend0_ = s_arch0_ + arch_length_;
   s_bend1_ = s_exit - 30e-3; // straight from 30 mm above the exit tear to the outlet
@@ -187,7 +200,8 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
   solve_dissected_profile();
 
   // Radius knots. The aorta tapers over the arch, widens after the LSA to the dissected
-  // segment's size, keeps it to the flap's end, and narrows distal to it to DAo_dist's.
+  // segment's size, keeps TL5's past the exit tear to the flap's taper, narrows over the
+  // taper as the false lumen closes, and reaches DAo_dist's distal to the FL's end cap.
   const double r_aao = std::sqrt(s.aao_area / pi), r_dist = std::sqrt(s.dao_dist_area / pi);
   double s_dist = 0;
   for (const Station& st : stations_)
@@ -200,11 +214,32 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
     radius_knots_.push_back({paired_station(k + 1), station_radius_[k]});
     offset_knots_.push_back({paired_station(k + 1), station_offset_[k]});
   }
-  offset_knots_.push_back({s_exit, station_offset_[4]});
-  offset_knots_.push_back({s_flap1_, station_offset_[4]});
-  // The dissected segment keeps its size to the flap's end cap: narrowing it there would
-  // narrow the true lumen alone, through which all the false lumen's flow leaves.
-  radius_knots_.push_back({s_flap1_ + h, station_radius_[4]});
+  // The distal re-attachment (docs/geometry.md, "The flap's distal taper"). All the false
+  // lumen's flow leaves it through the exit tear and then passes the true lumen beside and
+  // distal to the tear: a TL of TL5's size there was a stenosis of the model. So from TL5
+  // the flap moves to the vessel's centre (or stays where it is if already on the FL's side),
+  // is flat across the exit tear (its hole is cut and measured in a flat flap) to the taper's
+  // start, and over the taper moves on to the FL's side, the FL closing to fl_end_depth at
+  // its end cap. The radius narrows over the taper to the one whose TL there has DAo_dist's
+  // area; the TL thus widens from the tear on and never falls below its size at the tear.
+  const double e_tear = std::min(0.0, station_offset_[4]);
+  const double r_end = radius_with_true_lumen(s.dao_dist_area, s.fl_end_depth, h);
+  const double e_end = s.fl_end_depth + 0.5 * h - r_end;
+  const double fl_depth_at_tear = station_radius_[4] + e_tear - 0.5 * h;
+  if (!(s.fl_end_depth < fl_depth_at_tear - h))
+    input_error("tbad: false lumen end depth {} mm must be less than its depth at the exit tear "
+                "({:.1f} mm) less one wall thickness: the flap's taper closes the false lumen",
+                s.fl_end_depth * 1e3, fl_depth_at_tear * 1e3);
+  const double exit_axial = std::sqrt(s.exit_tear.area * s.exit_tear.aspect / pi);
+  // The proximal rim; a tear reaching TL5 is refused by check_fit, with a clamped knot here.
+  const double rim = std::max(s_exit - exit_axial, paired_station(5) + 0.5 * h);
+  offset_knots_.push_back({rim, e_tear});
+  offset_knots_.push_back({s_taper0_, e_tear});
+  offset_knots_.push_back({s_flap1_, e_end});
+  offset_knots_.push_back({s_flap1_ + h, e_end}); // flat at the end cap
+  radius_knots_.push_back({s_taper0_, station_radius_[4]});
+  radius_knots_.push_back({s_flap1_, r_end});
+  radius_knots_.push_back({s_flap1_ + h, r_end}); // flat at the end cap, as the flap
   radius_knots_.push_back({s_dist - 3e-3, r_dist});
   radius_knots_.push_back({s_outlet_, r_dist});
   for (std::size_t i = 1; i < radius_knots_.size(); ++i)
@@ -232,7 +267,7 @@ TbadModel::TbadModel(const TbadSpec& spec) : spec_(spec) {
 void TbadModel::lay_out_stations() {
   const TbadSpec& s = spec_;
   const double s_entry = s_flap0_ + s.entry_tear.position;
-  const double s_exit = s_flap1_ - s.exit_tear.position;
+  const double s_exit = s_taper0_ - s.exit_tear.position;
   const double first = s_entry + s.station_offset, last = s_exit - s.station_offset;
   if (!(last > first + 20e-3))
     input_error("tbad: flap length {} mm leaves no room for the five TL/FL stations between the "
@@ -266,12 +301,12 @@ void TbadModel::check_fit() const {
   const TbadSpec& s = spec_;
   const double h = s.wall_thickness;
   // A tear must leave at least one wall thickness of flap around it (to the wall, to the
-  // false lumen's end, and to the nearest TL/FL plane), or the flap tears through there.
+  // flap's end or taper, and to the nearest TL/FL plane), or the flap tears through there.
   const double ligament = h;
   for (int i = 0; i < 2; ++i) {
     const TearGeometry& g = tears_[i];
     const TearSpec& t = i == 0 ? s.entry_tear : s.exit_tear;
-    const double st = i == 0 ? s_flap0_ + t.position : s_flap1_ - t.position;
+    const double st = i == 0 ? s_flap0_ + t.position : s_taper0_ - t.position;
     const double r = radius(st), e = flap_offset(st);
     const double half_width = std::sqrt(std::max(0.0, r * r - std::pow(std::abs(e) + h / 2, 2)));
     const double max_across = half_width - ligament;
@@ -328,6 +363,13 @@ double TbadModel::radius(double s) const {
 
 double TbadModel::flap_offset(double s) const {
   return monotone_cubic(offset_knots_, s);
+}
+
+double TbadModel::flap_half_thickness(double s) const {
+  // Central difference over 0.1 mm: the offset changes over millimetres.
+  constexpr double d = 0.1e-3;
+  const double slope = (flap_offset(s + d) - flap_offset(s - d)) / (2 * d);
+  return 0.5 * spec_.wall_thickness * std::sqrt(1 + slope * slope);
 }
 
 double TbadModel::true_lumen_thickness(double s) const {

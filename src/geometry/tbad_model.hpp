@@ -58,6 +58,9 @@ public:
   /// Signed distance of the flap's mid-surface from the centreline along Frame::normal [m];
   /// positive values narrow the true lumen.
   double flap_offset(double s) const;
+  /// Half the flap's thickness along Frame::normal [m]: h/2 sqrt(1 + e'^2) with e' the
+  /// offset's slope, so that the flap is h thick perpendicular to itself where it slopes.
+  double flap_half_thickness(double s) const;
   /// True lumen thickness at the centre of the section: from the flap's TL face to the
   /// lumen wall along Frame::normal [m] (the TL is a circular segment of this height).
   double true_lumen_thickness(double s) const;
@@ -65,6 +68,9 @@ public:
   double arch_start() const { return s_arch0_; }
   double arch_length() const { return arch_length_; }
   double flap_start() const { return s_flap0_; }
+  /// Start of the flap's distal taper (re-attachment): flap_start() + flap_length.
+  double taper_start() const { return s_taper0_; }
+  /// The false lumen's distal end: the proximal face of its end cap, h thick.
   double flap_end() const { return s_flap1_; }
   const std::array<BranchGeometry, 3>& branches() const { return branches_; }
   const std::array<TearGeometry, 2>& tears() const { return tears_; }
@@ -87,7 +93,7 @@ private:
   double ds_ = 0;
   std::vector<Vec3> points_, tangents_;
   double s_arch0_ = 0, arch_length_ = 0, s_bend0_ = 0, s_bend1_ = 0, bow_angle_ = 0;
-  double s_flap0_ = 0, s_flap1_ = 0, s_outlet_ = 0;
+  double s_flap0_ = 0, s_taper0_ = 0, s_flap1_ = 0, s_outlet_ = 0;
   std::array<BranchGeometry, 3> branches_;
   std::array<TearGeometry, 2> tears_;
   std::vector<Station> stations_;

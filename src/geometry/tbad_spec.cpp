@@ -48,6 +48,8 @@ void validate(const TbadSpec& s) {
   positive(s.arch_distal_radius, "arch distal radius");
   positive(s.flap_start_gap, "flap start gap");
   positive(s.flap_length, "flap length");
+  positive(s.taper_length, "flap taper length");
+  positive(s.fl_end_depth, "false lumen end depth");
   positive(s.wall_thickness, "wall thickness (h)");
   positive(s.station_offset, "station offset");
   positive(s.outlet_distance, "outlet distance");
@@ -75,8 +77,9 @@ void validate(const TbadSpec& s) {
     if (tear == &s.entry_tear)
       positive(tear->position, "entry tear position");
     else if (!(tear->position >= 0) || !std::isfinite(tear->position))
-      input_error("tbad: exit tear position is {} mm, expected >= 0 (0: at the flap's end)",
-                  tear->position * 1e3);
+      input_error(
+          "tbad: exit tear position is {} mm, expected >= 0 (0: just proximal to the flap's taper)",
+          tear->position * 1e3);
     if (!(tear->aspect >= 1 && tear->aspect <= 4))
       input_error("tbad: {} tear aspect is {}, expected 1 to 4 (axial over circumferential)", which,
                   tear->aspect);

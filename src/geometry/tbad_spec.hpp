@@ -4,7 +4,8 @@
 // dissection flap into a true lumen (TL) and a false lumen (FL) that communicate through an
 // entry and an exit tear. Defaults reproduce the reference study's patient (Zimmermann,
 // Baeumler et al. 2023, ../shared/reference/tbad-study.md): lumen areas at its landmarks,
-// tear areas 228 / 227 mm^2, wall and flap 2 mm, domain ending 35 mm distal to the exit tear.
+// tear areas 228 / 227 mm^2, wall and flap 2 mm. Distal to the exit tear the flap re-attaches
+// to the wall over a taper, and the domain ends past the false lumen's end.
 // Everything is in SI units (m, m^2); the command line converts from mm.
 #include <array>
 #include <string>
@@ -23,8 +24,9 @@ struct BranchSpec {
 /// A tear: an elliptical hole through the flap, elongated along the vessel as real tears are.
 struct TearSpec {
   double area = 0; ///< hole area in the flap's mid-surface [m^2]
-  /// Centre's distance along the centreline from its end of the flap [m]. 0 (the exit
-  /// tear's default): at the flap's distal end, the tear's axial semi-axis plus
+  /// Centre's distance along the centreline from its end of the flap [m]: the entry tear's
+  /// from the flap's proximal end, the exit tear's from the start of the flap's distal taper.
+  /// 0 (the exit tear's default): at the taper's start, the tear's axial semi-axis plus
   /// max(2 mm, wall thickness) of flap (`resolved_exit_tear_position`).
   double position = 0;
   double aspect = 1.8; ///< axial over circumferential semi-axis, >= 1
@@ -47,10 +49,16 @@ struct TbadSpec {
   double arch_distal_radius = 11.0e-3; ///< lumen radius at the LSA [m]
   double dao_dist_area = 365.5e-6;     ///< lumen area distal to the dissection [m^2]
 
-  // Dissection: the flap starts `flap_start_gap` distal to the LSA's outer wall and is
-  // `flap_length` long; the false lumen is closed (a blind sac) at both ends.
+  // Dissection: the flap starts `flap_start_gap` distal to the LSA's outer wall and runs
+  // `flap_length` to the start of its distal taper, where it re-attaches to the outer wall
+  // (from TL5 to the exit tear it moves to the vessel's centre, so that the TL beside the
+  // tear is as wide as the FL): over `taper_length` it moves on to the FL's side, narrowing it to
+  // `fl_end_depth` at its end cap and the TL widening to about DAo_dist's area. The false
+  // lumen is closed (a blind sac) at both ends: the lumina communicate only through the tears.
   double flap_start_gap = 6e-3; ///< [m]
-  double flap_length = 200e-3;  ///< [m]
+  double flap_length = 200e-3;  ///< flap's start to its distal taper's start [m]
+  double taper_length = 25e-3;  ///< the distal taper (re-attachment), to the FL's end cap [m]
+  double fl_end_depth = 4e-3;   ///< FL depth (flap to wall) at its end cap [m]
   double wall_thickness = 2e-3; ///< h: outer wall and flap [m]
   /// TL and FL areas at the five stations TL1..TL5 / FL1..FL5, proximal to distal [m^2].
   std::array<double, 5> tl_areas{235.6e-6, 149.2e-6, 67.6e-6, 58.4e-6, 56.6e-6};
@@ -58,15 +66,15 @@ struct TbadSpec {
   /// Distance of station 1 (5) distal (proximal) to the entry (exit) tear's centre [m]; the
   /// other stations are evenly spaced in between. Fixed, not derived from the tear sizes, so
   /// that the variants share their landmarks relative to the tears (EX's smaller exit tear
-  /// sits nearer the flap's end by default, and its stations with it).
+  /// sits nearer the flap's taper by default, and its stations with it).
   double station_offset = 24e-3;
   TearSpec entry_tear{228e-6, 15e-3, 1.8}; ///< position from the flap's proximal end
-  /// Position from the flap's distal end; 0: at the end (the re-entry tear through which the
-  /// false lumen empties into the undivided aorta), 13.4 mm for 227 mm^2.
+  /// Position from the start of the flap's distal taper; 0: just proximal to it (the
+  /// re-entry tear through which the false lumen empties into the widening true lumen),
+  /// 13.4 mm for 227 mm^2.
   TearSpec exit_tear{227e-6, 0, 1.8};
-  /// Outlet cap distal to the flap's distal end [m]. From the flap's end, not the exit tear,
-  /// so that all variants share the undivided distal aorta (21.6 mm: 35 mm from the default
-  /// OR exit tear's centre, as before the tear moved to the flap's end).
+  /// Outlet cap distal to the false lumen's end (the taper's end) [m]. From there, not from
+  /// the exit tear, so that all variants share the undivided distal aorta.
   double outlet_distance = 21.6e-3;
 
   std::array<BranchSpec, 3> branches{BranchSpec{"BCT", 6.0e-3, 45e-3, 0.36},
@@ -86,9 +94,10 @@ struct TbadSpec {
 /// (exit 61 mm^2). Throws InputError naming the variants for anything else.
 void apply_variant(TbadSpec& spec, std::string_view variant);
 
-/// The exit tear centre's distance from the flap's distal end [m]: `exit_tear.position`, or
-/// when that is 0 the tear's axial semi-axis plus max(2 mm, wall thickness), which puts the
-/// tear at the flap's end with one ligament of flap distal to it.
+/// The exit tear centre's distance from the start of the flap's distal taper [m]:
+/// `exit_tear.position`, or when that is 0 the tear's axial semi-axis plus max(2 mm, wall
+/// thickness), which puts the tear just proximal to the taper with one ligament of flat flap
+/// distal to it.
 double resolved_exit_tear_position(const TbadSpec& spec);
 
 /// Checks every value (positive, finite, in range). Throws InputError saying which value is
