@@ -143,6 +143,7 @@ int main(int argc, char** argv) {
   const study::StudyCommand study_command(app);
 
   int code = 0;
+  bool all_ranks_stopped = false; // every rank caught the same error: none is left waiting
   try {
     app.parse(static_cast<int>(ours.size()), ours.data());
     if (*run)
@@ -165,14 +166,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", e.what());
     code = 2;
   } catch (const SolverError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    if (!e.collective || fem::mpi_rank() == 0)
+      std::fprintf(stderr, "error: %s\n", e.what());
     code = 3;
+    all_ranks_stopped = e.collective;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     code = 1;
   }
   // An error seen by one rank only would leave the others waiting in a collective call.
-  if (code != 0 && fem::mpi_size() > 1)
+  if (code != 0 && !all_ranks_stopped && fem::mpi_size() > 1)
     MPI_Abort(PETSC_COMM_WORLD, code);
   return code;
 }

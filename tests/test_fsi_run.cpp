@@ -113,4 +113,15 @@ TEST(FsiRun, OverloadedWallStopsWithAClearMessage) {
   EXPECT_THAT(r.output, HasSubstr("mesh inverted: a tet near"));
   EXPECT_THAT(r.output, HasSubstr("(step "));
   EXPECT_TRUE(fs::exists(out / "faces.csv")); // the steps before the failure are recorded
+
+  // On 2 ranks every rank sees the same failure: one message, no MPI_Abort of the others.
+  const auto two =
+      run_tearflow("run " + (tearflow::testing::test_data / "fsi/tube_diverges.yaml").string() +
+                       " -q -o " + fresh_dir("fsi-diverges-2").string(),
+                   "mpirun -n 2");
+  EXPECT_EQ(two.code, 3) << two.output;
+  const size_t first = two.output.find("error: Newton failed");
+  ASSERT_NE(first, std::string::npos) << two.output;
+  EXPECT_EQ(two.output.find("error: Newton failed", first + 1), std::string::npos) << two.output;
+  EXPECT_THAT(two.output, Not(HasSubstr("MPI_ABORT"))) << two.output;
 }

@@ -15,9 +15,14 @@ public:
 };
 
 /// A computation that could not go on: NaN, Newton failure, linear solver breakdown.
+/// `collective`: every rank threw it at the same point (a converged reason or a norm that
+/// all ranks share), so the ranks can stop together and one of them report it; otherwise
+/// the others may be waiting in a collective call and the program must abort them.
 class SolverError : public std::runtime_error {
 public:
-  using std::runtime_error::runtime_error;
+  explicit SolverError(const std::string& what, bool collective = false)
+      : std::runtime_error(what), collective(collective) {}
+  bool collective;
 };
 
 template <typename... Args>

@@ -47,6 +47,7 @@ private:
   bool has_coupled_outlets_ = false;
   double assembly_seconds_ = 0.0;
   std::string callback_error_;
+  bool callback_collective_ = false;             ///< callback_error_ was raised on every rank
   std::array<PetscReal, 64> residual_history_{}; ///< ||R|| per Newton iteration, from SNES
 };
 

@@ -176,12 +176,14 @@ void FsiProblem::check_mesh() const {
     return;
   std::array<double, 4> info{where[0], where[1], where[2], in_wall ? 1.0 : 0.0};
   MPI_Bcast(info.data(), 4, MPI_DOUBLE, worst.rank, dmesh_.comm());
-  throw SolverError(fmt::format(
-      "the {} mesh inverted: a tet near ({:.4g}, {:.4g}, {:.4g}) m (reference position) has "
-      "volume {:.3g} times its reference volume at the end of the step; the wall moved too far "
-      "in one step (reduce the time step or the load, or check the wall's material and "
-      "supports)",
-      info[3] > 0.5 ? "wall" : "moving fluid", info[0], info[1], info[2], worst.ratio));
+  throw SolverError(
+      fmt::format(
+          "the {} mesh inverted: a tet near ({:.4g}, {:.4g}, {:.4g}) m (reference position) has "
+          "volume {:.3g} times its reference volume at the end of the step; the wall moved too far "
+          "in one step (reduce the time step or the load, or check the wall's material and "
+          "supports)",
+          info[3] > 0.5 ? "wall" : "moving fluid", info[0], info[1], info[2], worst.ratio),
+      true);
 }
 
 void FsiProblem::residual(Vec U, Vec R) {

@@ -335,7 +335,8 @@ RunSummary Simulation::run(const RunOptions& options) {
                                             std::filesystem::exists(checkpoint_file)
                                         ? "The last good checkpoint is kept in '" +
                                               checkpoint_file.string() + "'."
-                                        : "No checkpoint was written."));
+                                        : "No checkpoint was written."),
+                        e.collective);
     }
     summary.reports.push_back(r);
     ++summary.steps;
