@@ -44,21 +44,21 @@
 // is systematic and nearly the same at both levels, so it does not blur the difference).
 // Without --convergence only the 10 % of the one level is checked.
 //
-// What the continuum itself gives for this measurement: a linear model of the tube (the
-// inlet pulse's spectrum carried with Womersley's viscous wavenumber and the inertia
-// dispersion above, the same stations, section averages and cut; no mesh, no reflection)
-// gives a centroid speed of 5.09 m/s for c0 = 5.25 (wall held axially) and 4.97 m/s for the
-// axially free wall's 5.07; without viscosity and dispersion it returns c0 exactly. So the
-// fluid's viscosity and the cut slow the measured centroid by 2-3 % of c0 before any
-// discretization error (docs/performance.md, "Pressure pulse after the LSIC fix").
+// What the continuum itself gives for this measurement (bench/pulse_continuum.py): a linear
+// model of the tube (the inlet pulse's spectrum carried with Womersley's viscous wavenumber
+// and the inertia dispersion above, the same stations, section averages and cut; no mesh, no
+// reflection) gives a centroid speed of 5.05 m/s for c0 = 5.25 (wall held axially) and 4.97
+// m/s for the axially free wall's 5.07; without viscosity and dispersion it returns c0
+// exactly. So viscosity, dispersion and the cut slow the measured centroid by 4-5 % of c0
+// before any discretization error (docs/performance.md, "Pressure pulse after the LSIC fix").
 //
 // Status (issue 10): with the time-step-free LSIC parameter (navier_stokes_kernel.hpp) the
 // centroid speed is 4.49 m/s at h 1.5 mm for dt 35, 25 and 17.5 us alike (it was 4.70 /
 // 4.96 / 5.49, the grad-div penalty ~ h^2 / dt locking the P1 velocity), and 4.56 m/s at
 // (1.05 mm, 17.5 us): the error falls under refinement (14.4 % -> 13.2 %) but stays above
 // 10 %, so --convergence fails on the 10 % bound. The pulse now keeps 99 % of int p dt from
-// the first station to the last (it lost 14 % before). Against the continuum model's 4.97-5.09
-// the discrete speed is still 8-12 % slow and converges slowly (order 0.3-0.4 from the two
+// the first station to the last (it lost 14 % before). Against the continuum model's 4.97-5.05
+// the discrete speed is still 8-11 % slow and converges slowly (order 0.35-0.45 from the two
 // levels). The likely cause, not yet shown by a third level: the fluid's no-slip layer is
 // one element thick (1-1.5 mm) where the physical Stokes layer is 0.08 mm, so the layer of
 // fluid held back by the wall is 10-20 times too thick and adds inertia to the flow.
