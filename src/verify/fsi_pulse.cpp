@@ -57,11 +57,13 @@
 // 4.96 / 5.49, the grad-div penalty ~ h^2 / dt locking the P1 velocity), and 4.56 m/s at
 // (1.05 mm, 17.5 us): the error falls under refinement (14.4 % -> 13.2 %) but stays above
 // 10 %, so --convergence fails on the 10 % bound. The pulse now keeps 99 % of int p dt from
-// the first station to the last (it lost 14 % before). Against the continuum model's 4.97-5.05
-// the discrete speed is still 8-11 % slow and converges slowly (order 0.35-0.45 from the two
-// levels). The likely cause, not yet shown by a third level: the fluid's no-slip layer is
-// one element thick (1-1.5 mm) where the physical Stokes layer is 0.08 mm, so the layer of
-// fluid held back by the wall is 10-20 times too thick and adds inertia to the flow.
+// the first station to the last (it lost 14 % before). Against the continuum model's value for
+// c0 5.25 (5.07 and 5.05 m/s with each level's section slab) the discrete speed is 11.4 and 9.8 %
+// slow: converging, but at an observed order of only 0.4. The gap does not depend on the wave's
+// length (a wall 4x stiffer, the pulse twice as long per element, gives the same ratio to its
+// continuum value, 0.884 against 0.886), so it is not axial resolution but the cross-section: most
+// likely the fluid's no-slip layer, one element thick (1-1.5 mm) where the physical Stokes layer is
+// 0.08 mm, whose held-back fluid adds inertia to the flow; it shrinks only with h.
 //
 // With -o DIR the run writes the pressure along the axis over time, DIR/pulse_axis_*.csv
 // (cross-section mean pressure every 2.5 mm at every step), so the pulse visibly travels.
