@@ -55,15 +55,14 @@
 // Status (issue 10): with the time-step-free LSIC parameter (navier_stokes_kernel.hpp) the
 // centroid speed is 4.49 m/s at h 1.5 mm for dt 35, 25 and 17.5 us alike (it was 4.70 /
 // 4.96 / 5.49, the grad-div penalty ~ h^2 / dt locking the P1 velocity), and 4.56 m/s at
-// (1.05 mm, 17.5 us): the error falls under refinement (14.4 % -> 13.2 %) but stays above
-// 10 %, so --convergence fails on the 10 % bound. The pulse now keeps 99 % of int p dt from
-// the first station to the last (it lost 14 % before). Against the continuum model's value for
-// c0 5.25 (5.07 and 5.05 m/s with each level's section slab) the discrete speed is 11.4 and 9.8 %
-// slow: converging, but at an observed order of only 0.4. The gap does not depend on the wave's
-// length (a wall 4x stiffer, the pulse twice as long per element, gives the same ratio to its
-// continuum value, 0.884 against 0.886), so it is not axial resolution but the cross-section: most
-// likely the fluid's no-slip layer, one element thick (1-1.5 mm) where the physical Stokes layer is
-// 0.08 mm, whose held-back fluid adds inertia to the flow; it shrinks only with h.
+// (1.05 mm, 17.5 us) and 4.57 m/s at (0.735 mm, 25 us): the error falls under refinement
+// (14.4, 13.2, 13.0 %) but stays above 10 %, so --convergence fails on the 10 % bound. The
+// pulse now keeps 99 % of int p dt from the first station to the last (it lost 14 % before).
+// The three levels show the discrete speed converged in h (steps 0.065 then 0.011 m/s) to a
+// value about 9.5 % below the continuum model's 5.05: not a mesh or time-step error. The gap
+// does not change with the wave's length (a wall 4x stiffer: ratio to its continuum value
+// 0.884 against 0.886) or the wall's mass (10x lighter: 0.878); what causes it is open
+// (docs/performance.md, "Pressure pulse after the LSIC fix").
 //
 // With -o DIR the run writes the pressure along the axis over time, DIR/pulse_axis_*.csv
 // (cross-section mean pressure every 2.5 mm at every step), so the pulse visibly travels.
