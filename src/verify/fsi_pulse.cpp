@@ -61,8 +61,9 @@
 // The three levels show the discrete speed converged in h (steps 0.065 then 0.011 m/s) to a
 // value about 9.5 % below the continuum model's 5.05: not a mesh or time-step error. The gap
 // does not change with the wave's length (a wall 4x stiffer: ratio to its continuum value
-// 0.884 against 0.886) or the wall's mass (10x lighter: 0.878); what causes it is open
-// (docs/performance.md, "Pressure pulse after the LSIC fix").
+// 0.884 against 0.886), the wall's mass (10x lighter: 0.878) or the ALE motion (fluid mesh
+// held fixed: 4.492 m/s again); what causes it is open (docs/performance.md, "Pressure pulse
+// after the LSIC fix").
 //
 // With -o DIR the run writes the pressure along the axis over time, DIR/pulse_axis_*.csv
 // (cross-section mean pressure every 2.5 mm at every step), so the pulse visibly travels.
