@@ -102,3 +102,17 @@ TEST(NavierStokesKernel, RigidTranslationAndHydrostaticGiveNoResidual) {
   for (int a = 0; a < 4; ++a)
     EXPECT_NEAR(R[4 * a + 3], 0.0, 1e-15);
 }
+
+TEST(NavierStokesKernel, GradDivParameterDoesNotDependOnTheTimeStep) {
+  // tau_M -> dt/2 as dt -> 0, but nu_C = 1 / (tau_C g.g) uses tau_M without its time term:
+  // a step 1000x smaller must leave it unchanged (with nu_C = 1 / (tau_M g.g) it would grow
+  // ~1000x), and tau_M must approach dt/2 (4/dt^2 dominates the other terms by ~1e8 at
+  // dt = 1e-7 s, so to a relative 1e-6 after the square root).
+  const ElementCase s = random_setup(3);
+  const Vec3 u{0.3, -0.2, 0.5};
+  const Stabilization coarse = stabilization(s.geo, u, s.fluid, 1e-4);
+  const Stabilization fine = stabilization(s.geo, u, s.fluid, 1e-7);
+  EXPECT_DOUBLE_EQ(fine.nu_c, coarse.nu_c);
+  EXPECT_NEAR(fine.tau_m, 0.5e-7, 1e-6 * 0.5e-7);
+  EXPECT_LT(coarse.tau_m, 0.5e-4);
+}

@@ -38,18 +38,32 @@
 // signals: the crossing of P0 / 2 (a fixed threshold; the dispersed peak falls below it beyond
 // about 2 cm), of half the station's own peak, the time of the largest dp/dt and of the peak.
 //
-// Tolerance 10 % (the issue's) against the thick-wall estimate c0. Refinement (h and dt by
-// 0.7, --convergence) must not move the speed away from it, beyond 1 % of it (a tenth of the
-// tolerance, the size of the truncation effect above). The damping reduces int p dt from the
-// first station to the last, by 14 % at h 1.5 mm and 5 % at 1.05 mm (numerical and
-// viscous); a loss that grows with frequency shifts the centroid little, one at w -> 0
-// (viscosity) slows it.
+// Acceptance (issue 10), checked by --convergence: the speed within 10 % of the thick-wall
+// estimate c0 at both levels (h, dt and h, dt x 0.7), and its error not larger on the finer
+// level (tolerance 0: the issue's "does not get worse"; the truncation effect above, 0.8 %,
+// is systematic and nearly the same at both levels, so it does not blur the difference).
+// Without --convergence only the 10 % of the one level is checked.
 //
-// Status (open, issue 10): centroid speed 6.78 m/s at (2 mm, 33 us), 4.96 at (1.5 mm, 25 us),
-// 4.40 at (1.05 mm, 17.5 us); every other measure falls alike under refinement, so the
-// 1.5 mm level passes and --convergence fails. At h 1.5 mm, dt 35 / 25 / 17.5 us give 4.70 /
-// 4.96 / 5.49 m/s with more damping at the smaller steps: the stabilization's tau_M ~ dt / 2,
-// not the integrator, sets the discrete long-wave speed (docs/performance.md).
+// What the continuum itself gives for this measurement (bench/pulse_continuum.py): a linear
+// model of the tube (the inlet pulse's spectrum carried with Womersley's viscous wavenumber
+// and the inertia dispersion above, the same stations, section averages and cut; no mesh, no
+// reflection) gives a centroid speed of 5.05 m/s for c0 = 5.25 (wall held axially) and 4.97
+// m/s for the axially free wall's 5.07; without viscosity and dispersion it returns c0
+// exactly. So viscosity, dispersion and the cut slow the measured centroid by 4-5 % of c0
+// before any discretization error (docs/performance.md, "Pressure pulse after the LSIC fix").
+//
+// Status (issue 10): with the time-step-free LSIC parameter (navier_stokes_kernel.hpp) the
+// centroid speed is 4.49 m/s at h 1.5 mm for dt 35, 25 and 17.5 us alike (it was 4.70 /
+// 4.96 / 5.49, the grad-div penalty ~ h^2 / dt locking the P1 velocity), and 4.56 m/s at
+// (1.05 mm, 17.5 us) and 4.57 m/s at (0.735 mm, 25 us): the error falls under refinement
+// (14.4, 13.2, 13.0 %) but stays above 10 %, so --convergence fails on the 10 % bound. The
+// pulse now keeps 99 % of int p dt from the first station to the last (it lost 14 % before).
+// The three levels show the discrete speed converged in h (steps 0.065 then 0.011 m/s) to a
+// value about 9.5 % below the continuum model's 5.05: not a mesh or time-step error. The gap
+// does not change with the wave's length (a wall 4x stiffer: ratio to its continuum value
+// 0.884 against 0.886), the wall's mass (10x lighter: 0.878) or the ALE motion (fluid mesh
+// held fixed: 4.492 m/s again); what causes it is open (docs/performance.md, "Pressure pulse
+// after the LSIC fix").
 //
 // With -o DIR the run writes the pressure along the axis over time, DIR/pulse_axis_*.csv
 // (cross-section mean pressure every 2.5 mm at every step), so the pulse visibly travels.
@@ -334,10 +348,9 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
     const double fine_error = std::abs(fine.speed_centroid - c_thick) / c_thick;
     res.metrics.push_back({"wave_speed_relative_error_refined", fine_error, 0.10,
                            "the same at h, dt x 0.7; 10 % (issue 10)"});
-    // Refinement must not move the speed away from the estimate, beyond 1 % of it (see the
-    // file comment).
-    res.metrics.push_back({"refinement_error_growth", fine_error - error, 0.01,
-                           "error at h, dt x 0.7 minus error at h, dt; <= 1 % (must not grow)"});
+    // Refinement must not move the speed away from the estimate (see the file comment).
+    res.metrics.push_back({"refinement_error_growth", fine_error - error, 0.0,
+                           "error at h, dt x 0.7 minus error at h, dt; <= 0 (must not grow)"});
   }
   return res;
 }
