@@ -1,0 +1,49 @@
+#pragma once
+// Synthetic 4D-flow MRI of an analytic field: the exact Womersley flow in a straight rigid
+// pipe (verify/womersley_exact.hpp) imaged on any oriented voxel grid, as a scanner would:
+//   - velocity:   each voxel holds the mean of u over the voxel (partial volume), from
+//                 n^3 sub-voxel samples, and over the frame's time window [t_k - dt/2,
+//                 t_k + dt/2], dt = period / frames, from n_t samples (midpoint rules);
+//   - magnitude:  blood `lumen_signal`, static tissue `tissue_signal` out to
+//                 `tissue_radius`, air 0 beyond, also partial-volume averaged;
+//   - noise:      magnitude noise N(0, s), s = lumen_signal / SNR (then |.|); phase noise
+//                 sigma_v = sqrt(2)/pi * venc * s / m, m the voxel's magnitude (the standard
+//                 phase-contrast result; Pelc et al. 1991), uniform over +-venc where m ~ 0;
+//   - wrapping:   a velocity beyond +-venc aliases into [-venc, venc) (phase wrap).
+// The frame's exact flow is the window mean of Q(t), computed from the Fourier modes:
+//   Qbar_k = Re sum_n q_n e^{i n w t_k} sinc(n w dt / 2).
+#include <cstdint>
+
+#include "mri/flow_dataset.hpp"
+#include "verify/womersley_exact.hpp"
+
+namespace tearflow::mri {
+
+struct PipeScan {
+  verify::WomersleyFlow flow; ///< the exact flow: radius, modes, omega (> 0: pulsatile)
+  Vec3 axis_point{};          ///< a point on the pipe axis [m] (patient LPS)
+  Vec3 axis{0, 0, 1};         ///< flow direction (unit) along the axis
+  double tissue_radius = 0.0; ///< static tissue out to this radius [m]; 0: 2 x pipe radius
+  ImageGrid grid;             ///< where the scanner images
+  int frames = 20;            ///< cardiac frames over one period 2 pi / omega
+  double venc = 1.0;          ///< [m/s]
+  double snr = 0.0;           ///< magnitude SNR in the lumen; 0: no noise
+  bool wrap = true;           ///< alias velocities beyond venc
+  int voxel_samples = 4;      ///< sub-samples per voxel axis (partial volume)
+  int time_samples = 4;       ///< sub-samples per frame window
+  double lumen_signal = 1.0, tissue_signal = 0.2;
+  std::uint64_t seed = 1; ///< noise generator seed
+};
+
+/// The scan; InputError for a non-pulsatile flow, no frames, venc <= 0 or an empty grid.
+Flow4D synthesize_pipe(const PipeScan& scan);
+
+/// The exact flow averaged over frame k's window [m^3/s].
+double exact_frame_flow(const PipeScan& scan, int k);
+
+/// Adds the phase offset  v_c += sum_t coefficient * monomial(x) to every frame, with x the
+/// voxel's index scaled to [-1, 1] per axis and the monomials of corrections.hpp:
+/// a known background for tests of its correction.
+void add_background(Flow4D& data, const std::array<std::vector<double>, 3>& coefficients);
+
+} // namespace tearflow::mri
