@@ -2,25 +2,17 @@
 // The analytic 4D-flow scans of the MRI tests: Womersley flow in a pipe of blood (radius 6 mm:
 // alpha 8.7 at 75 beats per minute, 8 voxels of 1.5 mm across; 9 mm: the descending aorta's
 // size, 12 across), and its one landmark plane across the pipe.
-#include <complex>
-#include <numbers>
+#include <cmath>
 
 #include "geometry/landmarks.hpp"
 #include "mri/synthetic.hpp"
 
 namespace tearflow::testing {
 
-/// Q(t) = Q0 (1 - swing cos wt + 0.1 sin 2wt), Q0 = 0.35 m/s x pi R^2: positive throughout
-/// (swing 0.3: 0.65 to 1.35 Q0; low at t = 0 as at end diastole), so that an error relative to each
-/// frame's flow means something; peak
-/// centre-line velocity about 0.7 m/s.
+/// mri::pulsatile_pipe_flow: Q0 = 0.35 m/s x pi R^2, swing 0.3: 0.65 to 1.35 Q0, so that an
+/// error relative to each frame's flow means something; peak centre-line velocity ~0.7 m/s.
 inline verify::WomersleyFlow test_pipe_flow(double radius = 6e-3, double swing = 0.3) {
-  verify::WomersleyFlow f;
-  f.radius = radius, f.density = 1060, f.viscosity = 4e-3;
-  f.omega = 2 * std::numbers::pi / 0.8;
-  const double q0 = 0.35 * std::numbers::pi * radius * radius;
-  f.modes = {q0, -swing * q0, std::complex<double>(0, -0.1 * q0)};
-  return f;
+  return mri::pulsatile_pipe_flow(radius, 0.35, swing);
 }
 
 /// The scan: a grid of `voxel` voxels centred on the pipe, its axes rotated by `degrees`

@@ -149,3 +149,45 @@ TEST(MriVolumes, NiftiAndMetaImageRoundTrip) {
     expect_input_error([&] { mri::read_flow_data(dir); }, "no vy volume");
   }
 }
+
+TEST(MriCommand, SynthesizeFlowCompareEndToEnd) {
+  // The three subcommands chained on a small noisy oblique scan with an injected background:
+  // the measured flows against the exact ones (synthesize writes them as exact/flow.csv).
+  const auto dir = fresh_dir("mri-cli");
+  const std::string scan = (dir / "scan").string(), flow = (dir / "flow").string();
+  auto r = run_tearflow("mri synthesize -o " + scan +
+                        " --radius 9mm --size 32,32,8 --frames 8 --snr 20 --rotate 20 "
+                        "--background 0.05m/s --venc 1m/s");
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_tearflow("mri flow " + scan + "/images --landmarks " + scan + "/landmarks.json -o " +
+                   flow);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto report = read_json(dir / "flow" / "mri.json");
+  EXPECT_GT(report["background"]["static_voxels"].get<int>(), 1000) << report.dump(2);
+  r = run_tearflow("mri compare " + scan + "/exact " + flow + " -o " + (dir / "cmp").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto c = read_json(dir / "cmp" / "compare.json");
+  for (const char* name : {"inlet", "outlet"}) {
+    const auto& l = c["landmarks"][name];
+    // The 5 % per frame of issue 9 (SNR 20), so also for the bias; r of a waveform measured
+    // that well is far above 0.99.
+    const double mean = l["mean_flow_simulation_mL_per_s"].get<double>();
+    EXPECT_LT(std::abs(l["difference_mean_mL_per_s"].get<double>()), 0.05 * mean) << c.dump(2);
+    EXPECT_GT(l["correlation"].get<double>(), 0.99) << c.dump(2);
+  }
+  // The tables are the measured layout `tearflow analyze` reads.
+  r = run_tearflow("analyze " + flow + " -o " + (dir / "analysis").string());
+  EXPECT_EQ(r.code, 0) << r.output;
+}
+
+TEST(MriCommand, BadInputExitsNonZeroWithTheReason) {
+  const auto dir = fresh_dir("mri-cli-bad");
+  std::filesystem::create_directories(dir);
+  auto r =
+      run_tearflow("mri flow " + dir.string() + " --landmarks x.json -o " + (dir / "out").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("no DICOM file"), std::string::npos) << r.output;
+  r = run_tearflow("mri synthesize -o " + (dir / "s").string() + " --voxel 1.5furlong");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("--voxel"), std::string::npos) << r.output;
+}

@@ -81,6 +81,14 @@ BackgroundReport correct_background(Flow4D& data, const BackgroundOptions& optio
       sd[v] = std::max(sd[v], static_cast<float>(std::sqrt(var)));
     }
   }
+  // Phase noise scales as 1 / magnitude, so SD x magnitude is the same for all static voxels
+  // (the noise level) and larger for flowing blood, however dim the tissue.
+  std::vector<float> mean_magnitude(n, 0.0f);
+  for (const Frame& f : data.frames)
+    for (std::size_t v = 0; v < n; ++v)
+      mean_magnitude[v] += f.magnitude[v] / static_cast<float>(nf);
+  for (std::size_t v = 0; v < n; ++v)
+    sd[v] *= mean_magnitude[v];
   std::vector<float> sds;
   for (std::size_t v = 0; v < n; ++v)
     if (with_signal[v])

@@ -5,7 +5,9 @@
 // et al. 2005): a slowly varying, time-constant offset b_c(x) per velocity component. Static
 // tissue is found as the voxels with signal (time-mean magnitude >= `signal_fraction` of
 // the image's 99th percentile) and the smallest temporal standard deviation of velocity
-// (max over components; below the `static_percentile` of the signal voxels'). On those, the
+// (max over components) times the mean magnitude: phase noise scales as 1 / magnitude, so
+// this is the noise level in all static voxels, however dim, and larger in flowing blood
+// (below the `static_percentile` of the signal voxels' values). On those, the
 // time-mean velocity is fitted by least squares with the polynomial
 //   b_c(x) = sum_t a_ct m_t(x),  m = [1, x, y, z, x^2, y^2, z^2, xy, xz, yz] (up to `order`),
 // x the voxel index scaled to [-1, 1] per axis, then refitted three times without the voxels
@@ -36,7 +38,7 @@ void monomials(const Vec3& x, int order, std::vector<double>& out);
 struct BackgroundOptions {
   int order = 2;                  ///< 0 constant, 1 linear, 2 quadratic
   double signal_fraction = 0.1;   ///< voxels with signal: mean magnitude >= this x p99
-  double static_percentile = 0.5; ///< static: temporal SD in this lowest fraction of them
+  double static_percentile = 0.5; ///< static: SD x magnitude in this lowest fraction of them
 };
 
 struct BackgroundReport {

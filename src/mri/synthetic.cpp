@@ -44,6 +44,15 @@ double sinc(double x) {
 
 } // namespace
 
+verify::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity, double swing) {
+  verify::WomersleyFlow f;
+  f.radius = radius, f.density = 1060, f.viscosity = 4e-3;
+  f.omega = 2 * kPi / 0.8;
+  const double q0 = mean_velocity * kPi * radius * radius;
+  f.modes = {q0, -swing * q0, std::complex<double>(0, -0.1 * q0)};
+  return f;
+}
+
 double exact_frame_flow(const PipeScan& scan, int k) {
   const double period = 2 * kPi / scan.flow.omega, dt = period / scan.frames, t = k * dt;
   double q = 0.0;

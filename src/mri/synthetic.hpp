@@ -35,6 +35,13 @@ struct PipeScan {
   std::uint64_t seed = 1; ///< noise generator seed
 };
 
+/// The demonstration flow of `tearflow mri synthesize` and the tests: blood (1060 kg/m^3,
+/// 4 mPa s) at 75 beats per minute, Q(t) = Q0 (1 - swing cos wt + 0.1 sin 2wt) with
+/// Q0 = mean_velocity pi R^2: positive throughout for swing < 0.8, lowest near t = 0 (end
+/// diastole, the trigger), so that frame 0 is the least likely to alias.
+verify::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity = 0.35,
+                                          double swing = 0.3);
+
 /// The scan; InputError for a non-pulsatile flow, no frames, venc <= 0 or an empty grid.
 Flow4D synthesize_pipe(const PipeScan& scan);
 
