@@ -99,7 +99,7 @@ TEST(MriCorrections, LinearPlusQuadraticBackgroundRemoved) {
   mri::add_background(data, injected);
   const mri::BackgroundReport report = mri::correct_background(data);
   // Residual against the clean data on tissue voxels (signal, outside the lumen).
-  const std::vector<char> with_signal = mri::signal_mask(clean, 0.1);
+  const std::vector<char> with_signal = mri::signal_mask(clean);
   double worst = 0.0;
   std::size_t tissue = 0;
   for (std::size_t v = 0; v < clean.grid.count(); ++v) {
@@ -116,6 +116,16 @@ TEST(MriCorrections, LinearPlusQuadraticBackgroundRemoved) {
               report.static_voxels, tissue, worst, scan.venc);
   EXPECT_GT(tissue, 1000u);
   EXPECT_LT(worst, 0.01 * scan.venc);
+}
+
+TEST(MriCorrections, UnwrappingLeavesUnaliasedNoisyDataAlone) {
+  // SNR 20, air around the tissue (random phase there), nothing beyond venc: no value may
+  // move; air must stay out of the voxels with signal.
+  mri::PipeScan scan = test_pipe_scan(0.0, 20.0);
+  scan.tissue_radius = 9e-3;
+  mri::Flow4D data = mri::synthesize_pipe(scan);
+  const mri::UnwrapReport report = mri::unwrap_temporal(data);
+  EXPECT_EQ(report.values_unwrapped, 0u);
 }
 
 TEST(MriCorrections, AliasingToTwiceVencUnwrapped) {
@@ -142,6 +152,20 @@ TEST(MriCorrections, AliasingToTwiceVencUnwrapped) {
   const mri::UnwrapReport report = mri::unwrap_temporal(data);
   EXPECT_GT(report.voxels, 0u);
   EXPECT_LT(worst_flow_error(scan, data), 0.02);
+}
+
+TEST(MriCorrections, AliasingUnwrappedInNoisyData) {
+  // The same aliasing (peak ~1.9 venc) at SNR 20 in the aorta-sized pipe: unwrapped, the
+  // flows must meet the 5 % that issue 9 sets for SNR 20.
+  mri::PipeScan scan = test_pipe_scan(0.0, 20.0, 9e-3);
+  scan.flow = test_pipe_flow(9e-3, 0.6);
+  scan.venc = 0.55;
+  mri::Flow4D data = mri::synthesize_pipe(scan);
+  EXPECT_GT(worst_flow_error(scan, data), 0.2);
+  mri::unwrap_temporal(data);
+  const double worst = worst_flow_error(scan, data);
+  std::printf("SNR 20, aliased and unwrapped: worst frame flow error %.3f %%\n", 100 * worst);
+  EXPECT_LT(worst, 0.05);
 }
 
 TEST(MriPlanes, LumenPointOutsideTheImageIsAnError) {

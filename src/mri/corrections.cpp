@@ -25,19 +25,24 @@ void monomials(const Vec3& x, int order, std::vector<double>& out) {
                {x[0] * x[0], x[1] * x[1], x[2] * x[2], x[0] * x[1], x[0] * x[2], x[1] * x[2]});
 }
 
-std::vector<char> signal_mask(const Flow4D& data, double fraction) {
+std::vector<char> signal_mask(const Flow4D& data, double noise_multiple) {
+  // The noise: the median over the voxels of the magnitude's temporal SD (static voxels,
+  // air or tissue, are the majority, and theirs varies by noise alone).
   const std::size_t n = data.grid.count();
-  std::vector<float> mean(n, 0.0f);
-  for (const Frame& f : data.frames)
-    for (std::size_t v = 0; v < n; ++v)
-      mean[v] += f.magnitude[v] / data.frames.size();
-  std::vector<float> sorted = mean;
-  const std::size_t p99 = static_cast<std::size_t>(0.99 * (n - 1));
-  std::nth_element(sorted.begin(), sorted.begin() + p99, sorted.end());
-  const double threshold = fraction * sorted[p99];
+  const double nf = static_cast<double>(data.frames.size());
+  std::vector<float> mean(n), sd(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    double s1 = 0, s2 = 0;
+    for (const Frame& f : data.frames)
+      s1 += f.magnitude[v], s2 += double(f.magnitude[v]) * f.magnitude[v];
+    mean[v] = static_cast<float>(s1 / nf);
+    sd[v] = static_cast<float>(std::sqrt(std::max(0.0, s2 / nf - (s1 / nf) * (s1 / nf))));
+  }
+  std::nth_element(sd.begin(), sd.begin() + n / 2, sd.end());
+  const double threshold = noise_multiple * sd[n / 2];
   std::vector<char> mask(n);
   for (std::size_t v = 0; v < n; ++v)
-    mask[v] = mean[v] >= threshold && mean[v] > 0;
+    mask[v] = mean[v] > threshold && mean[v] > 0;
   return mask;
 }
 
@@ -61,7 +66,7 @@ BackgroundReport correct_background(Flow4D& data, const BackgroundOptions& optio
   const ImageGrid& g = data.grid;
   const std::size_t n = g.count();
   const std::size_t nf = data.frames.size();
-  const std::vector<char> with_signal = signal_mask(data, options.signal_fraction);
+  const std::vector<char> with_signal = signal_mask(data, options.noise_multiple);
 
   // Time mean and temporal SD (largest over the components) per voxel with signal.
   std::array<std::vector<float>, 3> mean;
@@ -191,11 +196,11 @@ BackgroundReport correct_background(Flow4D& data, const BackgroundOptions& optio
   return report;
 }
 
-UnwrapReport unwrap_temporal(Flow4D& data, double signal_fraction) {
+UnwrapReport unwrap_temporal(Flow4D& data, double noise_multiple) {
   if (!(data.venc > 0.0))
     input_error("phase unwrapping needs the velocity encoding (venc), which the data lacks; "
                 "switch unwrapping off or give --venc");
-  const std::vector<char> with_signal = signal_mask(data, signal_fraction);
+  const std::vector<char> with_signal = signal_mask(data, noise_multiple);
   const double period = 2.0 * data.venc;
   UnwrapReport report;
   const std::size_t n = data.grid.count();
