@@ -6,10 +6,13 @@
 #include "mri/image_io.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <map>
 #include <optional>
 #include <regex>
+#include <thread>
 
 #include <fmt/format.h>
 #include <gdcmAttribute.h>
@@ -361,12 +364,38 @@ Flow4D read_dicom(const fs::path& dir, const ReadOptions& options) {
     if (e.is_regular_file())
       paths.push_back(e.path());
   std::sort(paths.begin(), paths.end());
+  // The files are independent: read on every core (each thread its own ITK objects); the
+  // first error in file order is the one reported.
+  std::vector<std::optional<SliceFile>> slots(paths.size());
+  std::vector<std::exception_ptr> errors(paths.size());
+  const unsigned workers = std::max(1u, std::min(4u, std::thread::hardware_concurrency()));
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    auto probe = itk::GDCMImageIO::New();
+    for (std::size_t i = next++; i < paths.size(); i = next++) {
+      try {
+        if (probe->CanReadFile(paths[i].string().c_str()))
+          slots[i] = read_slice(paths[i]);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned t = 1; t < workers; ++t)
+    threads.emplace_back(work);
+  work();
+  for (std::thread& t : threads)
+    t.join();
   std::vector<SliceFile> files;
   files.reserve(paths.size());
-  auto probe = itk::GDCMImageIO::New();
-  for (const fs::path& p : paths)
-    if (probe->CanReadFile(p.string().c_str()))
-      files.push_back(read_slice(p));
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    if (errors[i])
+      std::rethrow_exception(errors[i]);
+    if (slots[i])
+      files.push_back(std::move(*slots[i]));
+  }
+  slots.clear();
   if (files.empty())
     input_error("'{}': no DICOM file in the folder", dir.string());
   for (const SliceFile& f : files)
