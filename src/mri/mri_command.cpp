@@ -19,6 +19,7 @@
 #include "mri/image_io.hpp"
 #include "mri/plane_flow.hpp"
 #include "mri/synthetic.hpp"
+#include "mri/synthetic_run.hpp"
 
 namespace tearflow::mri {
 
@@ -49,6 +50,16 @@ double quantity(const std::string& text, const std::string& option, bool velocit
   return value * units::length_scale(unit, option);
 }
 
+/// A linear + quadratic offset per component (monomials of corrections.hpp), |b| <~ a.
+void inject_background(Flow4D& data, double a) {
+  if (a == 0)
+    return;
+  using V = std::vector<double>;
+  add_background(data, {V{0.2 * a, 0.3 * a, -0.2 * a, 0.1 * a, 0.2 * a, 0, -0.1 * a, 0, 0, 0},
+                        V{-0.3 * a, 0, 0.2 * a, 0, 0, 0.15 * a, 0, 0, -0.1 * a, 0.05 * a},
+                        V{0.1 * a, -0.1 * a, 0, 0.3 * a, 0, 0, 0.2 * a, 0, 0.1 * a, 0}});
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -61,7 +72,9 @@ MriCommand::MriCommand(CLI::App& app) {
   command_->require_subcommand(1);
 
   synthesize_ = command_->add_subcommand(
-      "synthesize", "a synthetic 4D-flow scan of the analytic pulsatile (Womersley) pipe");
+      "synthesize", "a synthetic 4D-flow scan of a run's VTU series, or of the analytic "
+                    "pulsatile (Womersley) pipe when no run is given");
+  synthesize_->add_option("run_dir", run_dir_, "output folder of `tearflow run` (flow.pvd)");
   synthesize_->add_option("-o,--output", output_, "output folder")->required();
   synthesize_->add_option("--voxel", voxel_, "isotropic voxel size (default 1.5mm)");
   synthesize_->add_option("--frames", frames_, "cardiac frames (default 20)")
@@ -114,7 +127,49 @@ int MriCommand::run() const {
   return compare();
 }
 
+int MriCommand::synthesize_from_run() const {
+  const auto t0 = std::chrono::steady_clock::now();
+  RunScan scan;
+  scan.run_dir = run_dir_;
+  scan.voxel = quantity(voxel_, "--voxel", false);
+  scan.frames = frames_;
+  scan.direction = rotation({1, 1, 0}, rotate_);
+  scan.effects.venc = quantity(venc_, "--venc", true);
+  scan.effects.snr = snr_;
+  scan.effects.seed = seed_;
+  if (!(scan.voxel > 0) || !(scan.effects.venc > 0))
+    input_error("mri synthesize: --voxel and --venc must be positive");
+  if (!size_.empty() || !tissue_.empty())
+    input_error("mri synthesize RUN_DIR: --size and --tissue are for the analytic pipe (the "
+                "grid covers the run's fluid plus 5 mm)");
+  Flow4D data = mri::synthesize_run(scan);
+  inject_background(data, quantity(background_, "--background", true));
+  const double t_synth = seconds_since(t0);
+  const fs::path out = output_;
+  const auto t1 = std::chrono::steady_clock::now();
+  write_scan(data, out / "images");
+  const fs::path landmarks = fs::path(run_dir_) / "geometry" / "landmarks.json";
+  if (fs::exists(landmarks))
+    fs::copy_file(landmarks, out / "landmarks.json", fs::copy_options::overwrite_existing);
+  fmt::print("mri synthesize '{}': {} x {} x {} voxels of {} mm, {} frames, venc {} m/s, SNR "
+             "{}\nsynthesis {:.2f} s, writing ({}) {:.2f} s; images{} in '{}'\n",
+             run_dir_, data.grid.size[0], data.grid.size[1], data.grid.size[2], scan.voxel * 1e3,
+             scan.frames, scan.effects.venc, scan.effects.snr, t_synth, format_, seconds_since(t1),
+             fs::exists(landmarks) ? " and landmarks.json" : "", out.string());
+  return 0;
+}
+
+void MriCommand::write_scan(const Flow4D& data, const fs::path& dir) const {
+  if (format_ == "dicom" || format_ == "dicom-rescaled")
+    write_dicom(data, dir,
+                {format_ == "dicom" ? PhaseConvention::classic : PhaseConvention::rescaled, true});
+  else
+    write_volumes(data, dir, format_ == "nifti" ? ".nii.gz" : ".mha");
+}
+
 int MriCommand::synthesize() const {
+  if (!run_dir_.empty())
+    return synthesize_from_run();
   const auto t0 = std::chrono::steady_clock::now();
   PipeScan scan;
   const double radius = quantity(radius_, "--radius", false);
@@ -140,21 +195,11 @@ int MriCommand::synthesize() const {
   scan.grid =
       centred_grid(scan.axis_point, rotation({1, 1, 0}, rotate_), size, {voxel, voxel, voxel});
   Flow4D data = synthesize_pipe(scan);
-  const double a = quantity(background_, "--background", true);
-  if (a != 0) { // linear + quadratic per component (monomials of corrections.hpp), |b| <~ a
-    using V = std::vector<double>;
-    add_background(data, {V{0.2 * a, 0.3 * a, -0.2 * a, 0.1 * a, 0.2 * a, 0, -0.1 * a, 0, 0, 0},
-                          V{-0.3 * a, 0, 0.2 * a, 0, 0, 0.15 * a, 0, 0, -0.1 * a, 0.05 * a},
-                          V{0.1 * a, -0.1 * a, 0, 0.3 * a, 0, 0, 0.2 * a, 0, 0.1 * a, 0}});
-  }
+  inject_background(data, quantity(background_, "--background", true));
   const double t_synth = seconds_since(t0);
   const fs::path out = output_;
   const auto t1 = std::chrono::steady_clock::now();
-  if (format_ == "dicom" || format_ == "dicom-rescaled")
-    write_dicom(data, out / "images",
-                {format_ == "dicom" ? PhaseConvention::classic : PhaseConvention::rescaled, true});
-  else
-    write_volumes(data, out / "images", format_ == "nifti" ? ".nii.gz" : ".mha");
+  write_scan(data, out / "images");
   const double t_write = seconds_since(t1);
 
   // Landmarks: two planes across the pipe, 3 mm either side of its centre.

@@ -1,10 +1,13 @@
 #pragma once
 // `tearflow mri synthesize | flow | compare` (docs/mri.md): the command-line edge of src/mri.
+#include <filesystem>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 namespace tearflow::mri {
+
+struct Flow4D;
 
 class MriCommand {
 public:
@@ -15,11 +18,14 @@ public:
 
 private:
   int synthesize() const;
+  int synthesize_from_run() const;
+  void write_scan(const Flow4D& data, const std::filesystem::path& dir) const;
   int flow() const;
   int compare() const;
 
   CLI::App *command_ = nullptr, *synthesize_ = nullptr, *flow_ = nullptr, *compare_ = nullptr;
   // synthesize
+  std::string run_dir_;
   std::string voxel_ = "1.5mm", venc_ = "1m/s", radius_ = "10mm", tissue_ = "", format_ = "dicom";
   std::string size_, background_ = "0m/s";
   int frames_ = 20;

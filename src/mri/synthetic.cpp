@@ -44,6 +44,35 @@ double sinc(double x) {
 
 } // namespace
 
+void add_scanner_effects(Flow4D& data, const ScannerEffects& e) {
+  std::mt19937_64 rng(e.seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const double s = e.snr > 0 ? e.lumen_signal / e.snr : 0.0;
+  const std::size_t n = data.grid.count();
+  for (Frame& fr : data.frames) {
+    for (std::size_t v = 0; v < n; ++v) {
+      const double m = fr.magnitude[v];
+      for (int c = 0; c < 3; ++c) {
+        double vel = fr.velocity[c][v];
+        if (s > 0) {
+          // Phase noise from the magnitude's SNR; where the signal is lost in the noise
+          // (below 2 s) the phase is uniform over the whole range.
+          if (m < 2 * s)
+            vel = e.venc * uniform(rng);
+          else
+            vel += std::sqrt(2.0) / kPi * e.venc * s / m * normal(rng);
+        }
+        if (e.wrap)
+          vel = wrap_velocity(vel, e.venc);
+        fr.velocity[c][v] = static_cast<float>(vel);
+      }
+      if (s > 0)
+        fr.magnitude[v] = static_cast<float>(std::abs(m + s * normal(rng)));
+    }
+  }
+}
+
 verify::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity, double swing) {
   verify::WomersleyFlow f;
   f.radius = radius, f.density = 1060, f.viscosity = 4e-3;
@@ -128,10 +157,6 @@ Flow4D synthesize_pipe(const PipeScan& scan) {
   out.grid = g;
   out.venc = scan.venc;
   out.frame_window = dt;
-  std::mt19937_64 rng(scan.seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  const double s = scan.snr > 0 ? scan.lumen_signal / scan.snr : 0.0;
   std::vector<double> speed(lumen_voxels.size());
   for (int f = 0; f < scan.frames; ++f) {
     Frame fr;
@@ -152,27 +177,9 @@ Flow4D synthesize_pipe(const PipeScan& scan) {
     for (std::size_t l = 0; l < lumen_voxels.size(); ++l)
       for (int c = 0; c < 3; ++c)
         fr.velocity[c][lumen_voxels[l]] = static_cast<float>(speed[l] * axis[c]);
-    for (std::size_t v = 0; v < n; ++v) {
-      const double m = magnitude[v];
-      for (int c = 0; c < 3; ++c) {
-        double vel = fr.velocity[c][v];
-        if (s > 0) {
-          // Phase noise from the magnitude's SNR; where the signal is lost in the noise
-          // (below 2 s) the phase is uniform over the whole range.
-          if (m < 2 * s)
-            vel = scan.venc * uniform(rng);
-          else
-            vel += std::sqrt(2.0) / kPi * scan.venc * s / m * normal(rng);
-        }
-        if (scan.wrap)
-          vel = wrap_velocity(vel, scan.venc);
-        fr.velocity[c][v] = static_cast<float>(vel);
-      }
-      if (s > 0)
-        fr.magnitude[v] = static_cast<float>(std::abs(m + s * normal(rng)));
-    }
     out.frames.push_back(std::move(fr));
   }
+  add_scanner_effects(out, {scan.venc, scan.snr, scan.wrap, scan.lumen_signal, scan.seed});
   return out;
 }
 

@@ -45,6 +45,16 @@ verify::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity = 
 /// The scan; InputError for a non-pulsatile flow, no frames, venc <= 0 or an empty grid.
 Flow4D synthesize_pipe(const PipeScan& scan);
 
+/// The scanner's noise and wrapping (above), applied in place to clean data: each frame's
+/// magnitude is its noise-free signal, lumen_signal the blood's (SNR is defined there).
+struct ScannerEffects {
+  double venc = 1.0, snr = 0.0;
+  bool wrap = true;
+  double lumen_signal = 1.0;
+  std::uint64_t seed = 1;
+};
+void add_scanner_effects(Flow4D& data, const ScannerEffects& effects);
+
 /// The exact flow averaged over frame k's window [m^3/s].
 double exact_frame_flow(const PipeScan& scan, int k);
 
