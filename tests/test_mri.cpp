@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "mri/alignment.hpp"
 #include "mri/corrections.hpp"
 #include "mri/plane_flow.hpp"
 #include "mri_support.hpp"
@@ -179,4 +180,31 @@ TEST(MriPlanes, LumenPointOutsideTheImageIsAnError) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("TL3"), std::string::npos) << e.what();
   }
+}
+
+TEST(MriAlignment, LandmarksMovedByTheFittedTransformMeasureTheSameFlows) {
+  // The model's frame differs from the scanner's by a rotation of 40 degrees and a shift.
+  // Four noisy-free paired points give the transform (Kabsch), exact to rounding; the model's
+  // landmarks moved by it must measure the flows of the scanner-frame landmarks.
+  const mri::PipeScan scan = test_pipe_scan(15.0);
+  const mri::Flow4D data = mri::synthesize_pipe(scan);
+  const geometry::Landmarks truth = test_pipe_landmarks(scan);
+  mri::RigidTransform to_model;
+  to_model.rotation = mri::rotation({0.3, -1, 0.5}, 40.0);
+  to_model.translation = {0.02, -0.05, 0.11};
+  const std::vector<Vec3> mri_points{{0, 0, 0}, {0.1, 0, 0}, {0, 0.05, 0.02}, {0.03, 0.01, 0.2}};
+  std::vector<Vec3> model_points;
+  for (const Vec3& p : mri_points)
+    model_points.push_back(to_model.apply(p));
+  const mri::RigidTransform fit = mri::fit_rigid(model_points, mri_points);
+  EXPECT_LT(fit.rms, 1e-12);
+  const geometry::Landmarks model_landmarks = mri::transformed(truth, to_model);
+  const auto a = mri::measure_planes(data, truth);
+  const auto b = mri::measure_planes(data, mri::transformed(model_landmarks, fit));
+  for (int k = 0; k < scan.frames; ++k) // same planes to rounding: the same pixels
+    EXPECT_NEAR(b[0].flow[k], a[0].flow[k], 1e-9 * a[0].flow[k]) << "frame " << k;
+  // Without the alignment the model's landmarks miss the pipe.
+  EXPECT_THROW(mri::measure_planes(data, model_landmarks), InputError);
+  EXPECT_THROW(mri::fit_rigid({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}),
+               InputError);
 }

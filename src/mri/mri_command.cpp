@@ -14,6 +14,7 @@
 #include "analysis/hemodynamics.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
+#include "mri/alignment.hpp"
 #include "mri/compare.hpp"
 #include "mri/corrections.hpp"
 #include "mri/image_io.hpp"
@@ -99,6 +100,8 @@ MriCommand::MriCommand(CLI::App& app) {
   flow_->add_option("--landmarks", landmarks_, "landmarks JSON (docs/geometry.md)")->required();
   flow_->add_option("-o,--output", output_, "output folder for the tables")->required();
   flow_->add_option("--venc", venc_override_, "velocity encoding, overriding the files'");
+  flow_->add_option("--align", align_,
+                    "paired model / MRI points (JSON): move the landmarks by their rigid fit");
   flow_->add_flag("--no-background", no_background_, "no background phase-offset correction");
   flow_
       ->add_option("--background-order", background_order_,
@@ -238,7 +241,12 @@ int MriCommand::flow() const {
   if (!venc_override_.empty())
     ro.venc = quantity(venc_override_, "--venc", true);
   Flow4D data = read_flow_data(input_, ro);
-  const geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_);
+  geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_);
+  if (!align_.empty()) {
+    const RigidTransform t = read_alignment(align_);
+    landmarks = transformed(landmarks, t);
+    report["alignment"] = t.to_json();
+  }
   report["read_s"] = seconds_since(t0);
   report["grid"] = {
       {"size", data.grid.size},
