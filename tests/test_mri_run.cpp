@@ -92,7 +92,8 @@ TEST(MriRunScan, CommandLineFromRunToComparison) {
   out = run_tearflow("mri flow " + scan + "/images --landmarks " + scan + "/landmarks.json -o " +
                      flow);
   ASSERT_EQ(out.code, 0) << out.output;
-  out = run_tearflow("mri compare " + r + " " + flow + " -o " + (dir / "cmp").string());
+  out = run_tearflow("mri compare " + r + " " + flow + " -o " + (dir / "cmp").string() +
+                     " --scan " + scan + "/images");
   ASSERT_EQ(out.code, 0) << out.output;
   const auto c = read_json(dir / "cmp" / "compare.json");
   for (const char* name : {"TL1", "FL1"}) {
@@ -103,4 +104,16 @@ TEST(MriRunScan, CommandLineFromRunToComparison) {
         << c.dump(2);
   }
   EXPECT_TRUE(c.contains("fl_flow_ratio_percent")) << c.dump(2);
+  // Voxel-wise: the scan differs from the noise-free one of the same run by its noise,
+  // sigma_v = sqrt(2)/pi venc / SNR = 0.0225 m/s per component where the magnitude is
+  // blood's, up to 1.7x that in the lumen's partial-volume voxels (magnitude >= 0.6): the
+  // speed differences' SD must lie in [sigma_v, 2 sigma_v], their mean (bias) below
+  // sigma_v / 2. Angles: at the typical 0.2 m/s, noise across the flow tilts v by
+  // ~ atan(0.0225 sqrt(2) / 0.2) = 9 degrees.
+  const auto& v = c["voxels"];
+  std::printf("voxels: %s\n", v.dump().c_str());
+  EXPECT_GT(v["speed_difference_sd_m_per_s"].get<double>(), 0.0225);
+  EXPECT_LT(v["speed_difference_sd_m_per_s"].get<double>(), 0.045);
+  EXPECT_LT(std::abs(v["speed_difference_mean_m_per_s"].get<double>()), 0.0113);
+  EXPECT_LT(v["angle_median_deg"].get<double>(), 15.0);
 }

@@ -92,8 +92,64 @@ Comparison compare_flows(const analysis::Analysis& sim, const analysis::Analysis
   return c;
 }
 
+VoxelComparison compare_voxels(const Flow4D& sim, const Flow4D& mri) {
+  if (!sim.grid.same_as(mri.grid) || sim.frames.size() != mri.frames.size())
+    input_error("voxel comparison: the simulated scan must share the MRI's grid and frames");
+  VoxelComparison c;
+  const std::size_t n = sim.grid.count();
+  double s1 = 0, s2 = 0, a1 = 0;
+  std::vector<double> angles;
+  for (std::size_t f = 0; f < sim.frames.size(); ++f) {
+    const Frame &fs = sim.frames[f], &fm = mri.frames[f];
+    auto vec = [](const Frame& fr, std::size_t v) {
+      return Vec3{fr.velocity[0][v], fr.velocity[1][v], fr.velocity[2][v]};
+    };
+    double largest = 0;
+    for (std::size_t v = 0; v < n; ++v)
+      if (fs.magnitude[v] >= 0.6f) // fluid fraction >= 1/2
+        largest = std::max(largest, std::sqrt(dot(vec(fs, v), vec(fs, v))));
+    for (std::size_t v = 0; v < n; ++v) {
+      if (fs.magnitude[v] < 0.6f)
+        continue;
+      const Vec3 a = vec(fs, v), b = vec(fm, v);
+      const double sa = std::sqrt(dot(a, a)), sb = std::sqrt(dot(b, b));
+      ++c.voxel_frames;
+      s1 += sb - sa, s2 += (sb - sa) * (sb - sa);
+      if (sa >= 0.1 * largest && sa > 0 && sb > 0) {
+        const double angle =
+            std::acos(std::clamp(dot(a, b) / (sa * sb), -1.0, 1.0)) * 180.0 / 3.14159265358979;
+        angles.push_back(angle);
+        a1 += angle;
+      }
+    }
+  }
+  if (c.voxel_frames == 0)
+    input_error("voxel comparison: no lumen voxel in the simulated scan");
+  const double m = static_cast<double>(c.voxel_frames);
+  c.speed_difference_mean = s1 / m;
+  c.speed_difference_sd = m > 1 ? std::sqrt(std::max(0.0, (s2 - s1 * s1 / m) / (m - 1))) : 0.0;
+  c.angle_voxel_frames = angles.size();
+  if (!angles.empty()) {
+    c.angle_mean_deg = a1 / angles.size();
+    std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
+    c.angle_median_deg = angles[angles.size() / 2];
+  }
+  return c;
+}
+
+nlohmann::json VoxelComparison::to_json() const {
+  return {{"lumen_voxel_frames", voxel_frames},
+          {"speed_difference_mean_m_per_s", speed_difference_mean},
+          {"speed_difference_sd_m_per_s", speed_difference_sd},
+          {"angle_voxel_frames", angle_voxel_frames},
+          {"angle_mean_deg", angle_mean_deg},
+          {"angle_median_deg", angle_median_deg}};
+}
+
 nlohmann::json Comparison::to_json() const {
   nlohmann::json j;
+  if (voxels)
+    j["voxels"] = voxels->to_json();
   const double mL = units::mL;
   for (const WaveformComparison& w : landmarks) {
     j["landmarks"][w.landmark] = {{"frames", w.time.size()},

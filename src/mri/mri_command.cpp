@@ -119,6 +119,10 @@ MriCommand::MriCommand(CLI::App& app) {
       ->required();
   compare_->add_option("mri", measured_, "folder of MRI tables (`tearflow mri flow`)")->required();
   compare_->add_option("-o,--output", output_, "output folder")->required();
+  compare_->add_option("--scan", scan_,
+                       "the MRI scan itself (DICOM or volume folder): adds voxel-wise speed "
+                       "and angle differences in the lumen (the simulation must be a run)");
+  compare_->add_option("--venc", venc_override_, "velocity encoding of --scan, if not in it");
   compare_->add_flag("-q,--quiet", quiet_, "no summary lines");
 }
 
@@ -234,19 +238,12 @@ int MriCommand::synthesize() const {
   return 0;
 }
 
-int MriCommand::flow() const {
-  nlohmann::json report;
+Flow4D MriCommand::load_corrected(const std::string& input, nlohmann::json& report) const {
   auto t0 = std::chrono::steady_clock::now();
   ReadOptions ro;
   if (!venc_override_.empty())
     ro.venc = quantity(venc_override_, "--venc", true);
-  Flow4D data = read_flow_data(input_, ro);
-  geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_);
-  if (!align_.empty()) {
-    const RigidTransform t = read_alignment(align_);
-    landmarks = transformed(landmarks, t);
-    report["alignment"] = t.to_json();
-  }
+  Flow4D data = read_flow_data(input, ro);
   report["read_s"] = seconds_since(t0);
   report["grid"] = {
       {"size", data.grid.size},
@@ -272,7 +269,19 @@ int MriCommand::flow() const {
     report["background"] = correct_background(data, bo).to_json();
   }
   report["background_s"] = seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
+  return data;
+}
+
+int MriCommand::flow() const {
+  nlohmann::json report;
+  Flow4D data = load_corrected(input_, report);
+  geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_);
+  if (!align_.empty()) {
+    const RigidTransform t = read_alignment(align_);
+    landmarks = transformed(landmarks, t);
+    report["alignment"] = t.to_json();
+  }
+  auto t0 = std::chrono::steady_clock::now();
   PlaneOptions po;
   po.lumen_fraction = lumen_fraction_;
   const std::vector<PlaneSeries> planes = measure_planes(data, landmarks, po);
@@ -310,7 +319,18 @@ int MriCommand::compare() const {
   analysis::AnalyzeOptions so, mo;
   so.run_dir = simulation_;
   mo.run_dir = measured_;
-  const Comparison c = compare_flows(analysis::analyze_run(so), analysis::analyze_run(mo));
+  Comparison c = compare_flows(analysis::analyze_run(so), analysis::analyze_run(mo));
+  if (!scan_.empty()) {
+    nlohmann::json report;
+    const Flow4D measured = load_corrected(scan_, report);
+    RunScan rs;
+    rs.run_dir = simulation_;
+    rs.grid = measured.grid;
+    rs.frames = static_cast<int>(measured.frames.size());
+    rs.effects.venc = measured.venc > 0 ? measured.venc : 1.0;
+    rs.effects.wrap = false;
+    c.voxels = compare_voxels(synthesize_run(rs), measured);
+  }
   write_comparison(c, output_);
   if (!quiet_) {
     fmt::print("{:<10} {:>12} {:>12} {:>16} {:>8}\n", "landmark", "Qsim [mL/s]", "Qmri [mL/s]",

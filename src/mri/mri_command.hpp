@@ -4,6 +4,7 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 namespace tearflow::mri {
 
@@ -22,6 +23,8 @@ private:
   void write_scan(const Flow4D& data, const std::filesystem::path& dir) const;
   int flow() const;
   int compare() const;
+  /// Reads `input` and applies the corrections chosen, recording them in `report`.
+  Flow4D load_corrected(const std::string& input, nlohmann::json& report) const;
 
   CLI::App *command_ = nullptr, *synthesize_ = nullptr, *flow_ = nullptr, *compare_ = nullptr;
   // synthesize
@@ -37,7 +40,7 @@ private:
   int background_order_ = 2;
   double lumen_fraction_ = 0.6;
   // compare
-  std::string simulation_, measured_;
+  std::string simulation_, measured_, scan_;
 };
 
 } // namespace tearflow::mri
