@@ -9,6 +9,7 @@
 #include "analysis/hemodynamics.hpp"
 #include "analysis_support.hpp"
 #include "cli_support.hpp"
+#include "core/error.hpp"
 #include "mri/plane_flow.hpp"
 #include "mri/synthetic_run.hpp"
 
@@ -69,6 +70,16 @@ TEST(MriRunScan, TrueAndFalseLumenFlowsOfARun) {
   }
   // TL and FL told apart: their flows differ as the lumina's velocities (0.5 vs 0.3 m/s).
   EXPECT_NEAR(mean_mri[1] / mean_mri[0], 0.6, 0.02);
+  // Both points in one lumen (the FL point moved into the TL): an unresolved flap, an error.
+  geometry::Landmarks wrong = landmarks;
+  wrong.planes[1].point = Vec3{run.lumina[0].x + 2e-3, 0.0, 6e-3};
+  try {
+    mri::measure_planes(data, wrong);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("one connected lumen region"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(MriRunScan, CommandLineFromRunToComparison) {

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "analysis/landmark_sections.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
 
@@ -109,6 +110,10 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
                                         const PlaneOptions& o) {
   const ImageGrid& g = data.grid;
   std::vector<PlaneSeries> out;
+  // Frame 0's lumen region and lumen point per landmark, to check that a station's TL and FL
+  // planes picked two different regions.
+  std::vector<std::vector<char>> first_region;
+  std::vector<long> seeds;
   for (const geometry::Landmark& lm : landmarks.planes) {
     const Reformat r = make_reformat(g, lm, o);
     const Vec3 n = unit(lm.normal);
@@ -153,6 +158,10 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
         mask[p] = r.inside[p] && mag[p] >= threshold;
       mask[seed] = 1; // the point is in its lumen by definition
       const std::vector<char> lumen = region_of(mask, r.side, seed);
+      if (f == 0) {
+        first_region.push_back(lumen);
+        seeds.push_back(seed);
+      }
       const std::vector<char> flow_region = grown(lumen, r.side, grow);
       double area = 0.0, flow = 0.0, peak = -1e300;
       for (std::size_t p = 0; p < npx; ++p) {
@@ -169,6 +178,20 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
     }
     out.push_back(std::move(s));
   }
+  const auto& planes = landmarks.planes;
+  for (std::size_t a = 0; a < planes.size(); ++a)
+    for (std::size_t b = 0; b < planes.size(); ++b) {
+      const int k = analysis::station_of(planes[a]);
+      const Vec3 d = planes[a].origin - planes[b].origin;
+      const bool same_plane =
+          dot(d, d) < 1e-18 && dot(unit(planes[a].normal), unit(planes[b].normal)) > 1 - 1e-12;
+      if (a != b && k > 0 && planes[a].lumen == "TL" && planes[b].lumen == "FL" &&
+          analysis::station_of(planes[b]) == k && same_plane && first_region[a][seeds[b]])
+        input_error("landmarks '{}' and '{}': their lumen points fall in one connected lumen "
+                    "region (frame 0): the flap between them is not resolved at this voxel "
+                    "size, or the lumen threshold is too low (raise --lumen-fraction)",
+                    planes[a].name, planes[b].name);
+    }
   return out;
 }
 

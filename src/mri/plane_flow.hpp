@@ -41,7 +41,8 @@ struct PlaneSeries {
 };
 
 /// Every landmark plane of `landmarks` (same order). InputError naming the landmark and the
-/// frame when the plane lies outside the image or its lumen point is not in a lumen.
+/// frame when the plane lies outside the image or its lumen point is not in a lumen, or
+/// naming TLk and FLk when their points fall in one lumen region (an unresolved flap).
 std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Landmarks& landmarks,
                                         const PlaneOptions& options = {});
 
