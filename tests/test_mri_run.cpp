@@ -2,7 +2,9 @@
 // lumen side by side, Poiseuille flow pulsing in time; tests/analysis_support.hpp) imaged
 // with voxels of 1.2 mm (8 across each lumen), then measured at its TL / FL planes: the MRI
 // flows must reproduce the run's own (its landmark analysis) at every frame.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
@@ -10,7 +12,9 @@
 #include "analysis_support.hpp"
 #include "cli_support.hpp"
 #include "core/error.hpp"
+#include "mri/image_io.hpp"
 #include "mri/plane_flow.hpp"
+#include "mri/surface_alignment.hpp"
 #include "mri/synthetic_run.hpp"
 
 using namespace tearflow;
@@ -127,4 +131,121 @@ TEST(MriRunScan, CommandLineFromRunToComparison) {
   EXPECT_LT(v["speed_difference_sd_m_per_s"].get<double>(), 0.045);
   EXPECT_LT(std::abs(v["speed_difference_mean_m_per_s"].get<double>()), 0.0113);
   EXPECT_LT(v["angle_median_deg"].get<double>(), 15.0);
+}
+
+TEST(MriRunScan, SurfaceAlignmentRecoversARotatedShiftedScan) {
+  // Two lumina of different radii side by side, closed at both ends inside the field of
+  // view, so that the surface fixes all six rigid degrees of freedom (up to the channel's
+  // 180-degree symmetry, which the fit's smallest-rotation rule resolves).
+  SyntheticRun run;
+  run.lumina = {{-7e-3, 5e-3, 0.5, 1e4}, {6e-3, 3.5e-3, 0.3, 1e4}};
+  run.length = 16e-3;
+  run.element_size = 1e-3;
+  run.frames = 3;
+  const auto dir = fresh_dir("mri-run-align");
+  write_synthetic_run(run, dir);
+  mri::RunScan scan;
+  scan.run_dir = dir;
+  scan.voxel = 1.2e-3;
+  scan.frames = 2;
+  scan.effects.venc = 1.0;
+  const mri::Flow4D model_frame = mri::synthesize_run(scan);
+  // The same scan placed in a patient frame rotated by 4 degrees and shifted by
+  // (3, -2, 4) mm from the model's: x_mri = R x_model + t, its grid's origin and axes moved.
+  const Mat3 r =
+      mri::rotation({1.0 / std::sqrt(14.0), 2.0 / std::sqrt(14.0), 3.0 / std::sqrt(14.0)}, 4.0);
+  mri::RigidTransform truth;
+  truth.rotation = r;
+  truth.translation = {3e-3, -2e-3, 4e-3};
+  mri::Flow4D moved = model_frame;
+  moved.grid.origin = truth.apply(model_frame.grid.origin);
+  for (int a = 0; a < 3; ++a)
+    moved.grid.direction[a] = truth.rotate(model_frame.grid.direction[a]);
+
+  // The fit sees the scan with SNR 20 noise (in the magnitude too: the iso-surface must cope
+  // with it); the flows below are compared noise-free.
+  mri::Flow4D noisy = moved;
+  mri::ScannerEffects effects;
+  effects.venc = 1.0;
+  effects.snr = 20.0;
+  mri::add_scanner_effects(noisy, effects);
+  const std::vector<Vec3> boundary = mri::lumen_boundary_points(noisy);
+  const mri::SurfaceFit fit = mri::fit_surface(mri::read_model_surface(dir), boundary, scan.voxel);
+  // The rotation error: the angle of R_fit R^T; the position error: the largest distance
+  // between truth and fit over the channel's bounding box corners.
+  double trace = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      trace += fit.transform.rotation[a][b] * r[a][b];
+  const double angle = std::acos(std::clamp((trace - 1) / 2, -1.0, 1.0)) * 180 / M_PI;
+  double worst = 0;
+  for (double x : {-12e-3, 10e-3})
+    for (double y : {-5e-3, 5e-3})
+      for (double z : {0.0, run.length}) {
+        const Vec3 e = fit.transform.apply({x, y, z}) - truth.apply({x, y, z});
+        worst = std::max(worst, std::sqrt(dot(e, e)));
+      }
+  std::printf("surface fit: start %s, %d iterations, %zu of %zu points, RMS %.3f mm; rotation "
+              "error %.3f deg, worst corner %.3f mm\n",
+              fit.start.c_str(), fit.iterations, fit.kept, fit.points, fit.transform.rms * 1e3,
+              angle, worst * 1e3);
+  // Issue 9's acceptance: within a voxel and a degree. The iso-surface of the partial-volume
+  // magnitude places each boundary point within a fraction of a voxel of the wall, and the
+  // fit averages thousands of them, so one voxel over the whole channel and one degree hold
+  // with room (the measured errors are printed above).
+  EXPECT_LT(angle, 1.0);
+  EXPECT_LT(worst, scan.voxel);
+  // The fit's residual is sub-voxel: the iso-surface and the mesh surface coincide.
+  EXPECT_LT(fit.transform.rms, 0.5 * scan.voxel);
+
+  // Through the command: the moved scan (its velocity rotated into the patient frame too)
+  // measured at the model's landmarks moved by the surface fit gives the flows of the scan
+  // in the model's frame at the landmarks themselves.
+  for (mri::Frame& f : moved.frames)
+    for (std::size_t v = 0; v < f.magnitude.size(); ++v) {
+      const Vec3 u = truth.rotate({f.velocity[0][v], f.velocity[1][v], f.velocity[2][v]});
+      for (int a = 0; a < 3; ++a)
+        f.velocity[a][v] = static_cast<float>(u[a]);
+    }
+  mri::write_volumes(model_frame, dir / "scan-model", ".mha");
+  mri::write_volumes(moved, dir / "scan-moved", ".mha");
+  geometry::Landmarks landmarks;
+  landmarks.planes = {plane_at(run, "TL1", 8e-3, 0, "TL"), plane_at(run, "FL1", 8e-3, 1, "FL")};
+  geometry::write_landmarks(landmarks, dir / "landmarks.json");
+  const std::string common =
+      " --landmarks " + (dir / "landmarks.json").string() + " --no-background --no-unwrap -q -o ";
+  auto out = run_tearflow("mri flow " + (dir / "scan-model").string() + common +
+                          (dir / "flow-model").string());
+  ASSERT_EQ(out.code, 0) << out.output;
+  out = run_tearflow("mri flow " + (dir / "scan-moved").string() + common +
+                     (dir / "flow-moved").string() + " --align-surface " + dir.string());
+  ASSERT_EQ(out.code, 0) << out.output;
+  const auto report = read_json(dir / "flow-moved" / "mri.json");
+  EXPECT_EQ(report["alignment"]["method"], "surface ICP") << report.dump(2);
+  analysis::AnalyzeOptions o0, o1;
+  o0.run_dir = dir / "flow-model";
+  o1.run_dir = dir / "flow-moved";
+  const analysis::Analysis a0 = analysis::analyze_run(o0), a1 = analysis::analyze_run(o1);
+  double worst_flow = 0;
+  for (std::size_t l = 0; l < 2; ++l)
+    for (std::size_t k = 0; k < a0.time.size(); ++k) {
+      const double q0 = a0.series[l].samples[k].flow, q1 = a1.series[l].samples[k].flow;
+      worst_flow = std::max(worst_flow, std::abs(q1 - q0) / std::abs(q0));
+      // The same voxels sampled on a plane placed within 0.03 mm / 0.05 deg of the same
+      // place: the 2 % of issue 9's noise-free round trip bounds the interpolation's change.
+      EXPECT_NEAR(q1, q0, 0.02 * std::abs(q0)) << a0.series[l].landmark.name << " frame " << k;
+    }
+
+  std::printf("flows at the aligned landmarks: worst frame %.3f %% off\n", 100 * worst_flow);
+
+  // A path that is neither a run folder nor a .vtu mesh is named in the error.
+  try {
+    mri::read_model_surface(dir / "nothing.stl");
+    ADD_FAILURE() << "no error for a .stl path";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing.stl': expected a run folder (flow.pvd) or a "
+                                         ".vtu mesh"),
+              std::string::npos)
+        << e.what();
+  }
 }

@@ -3,9 +3,11 @@
 // mri.json with the corrections' reports beside the tables.
 #include "mri/mri_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <regex>
 
 #include <fmt/format.h>
@@ -19,6 +21,7 @@
 #include "mri/corrections.hpp"
 #include "mri/image_io.hpp"
 #include "mri/plane_flow.hpp"
+#include "mri/surface_alignment.hpp"
 #include "mri/synthetic.hpp"
 #include "mri/synthetic_run.hpp"
 
@@ -102,6 +105,9 @@ MriCommand::MriCommand(CLI::App& app) {
   flow_->add_option("--venc", venc_override_, "velocity encoding, overriding the files'");
   flow_->add_option("--align", align_,
                     "paired model / MRI points (JSON): move the landmarks by their rigid fit");
+  flow_->add_option("--align-surface", align_surface_,
+                    "run folder or .vtu mesh: move the landmarks by the rigid fit (ICP) of the "
+                    "MRI lumen's surface to the mesh's (started from --align when given)");
   flow_->add_flag("--no-background", no_background_, "no background phase-offset correction");
   flow_
       ->add_option("--background-order", background_order_,
@@ -276,7 +282,23 @@ int MriCommand::flow() const {
   nlohmann::json report;
   Flow4D data = load_corrected(input_, report);
   geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_);
-  if (!align_.empty()) {
+  if (!align_surface_.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::optional<RigidTransform> start;
+    if (!align_.empty())
+      start = read_alignment(align_);
+    const double voxel =
+        std::min({data.grid.spacing[0], data.grid.spacing[1], data.grid.spacing[2]});
+    const SurfaceFit fit = fit_surface(read_model_surface(align_surface_),
+                                       lumen_boundary_points(data, lumen_fraction_), voxel, start);
+    landmarks = transformed(landmarks, fit.transform);
+    report["alignment"] = fit.to_json();
+    report["alignment_s"] = seconds_since(t0);
+    if (!quiet_)
+      fmt::print("surface alignment ({} start, {} iterations): RMS {:.3f} mm over {} of {} "
+                 "boundary points\n",
+                 fit.start, fit.iterations, fit.transform.rms * 1e3, fit.kept, fit.points);
+  } else if (!align_.empty()) {
     const RigidTransform t = read_alignment(align_);
     landmarks = transformed(landmarks, t);
     report["alignment"] = t.to_json();

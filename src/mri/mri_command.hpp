@@ -35,7 +35,7 @@ private:
   double snr_ = 0.0, rotate_ = 0.0;
   unsigned seed_ = 1;
   // flow
-  std::string input_, landmarks_, venc_override_, output_, align_;
+  std::string input_, landmarks_, venc_override_, output_, align_, align_surface_;
   bool no_background_ = false, no_unwrap_ = false, quiet_ = false;
   int background_order_ = 2;
   double lumen_fraction_ = 0.6;
