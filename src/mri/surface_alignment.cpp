@@ -78,36 +78,54 @@ struct IcpResult {
   int iterations = 0;
 };
 
-IcpResult icp(vtkStaticCellLocator* locator, const std::vector<Vec3>& q, RigidTransform s,
-              double voxel) {
+/// Point-to-plane ICP (Chen & Medioni 1992): per pass, with p_i the moved MRI points, c_i
+/// their closest surface points and n_i the unit normals of the triangles holding them, the
+/// small rotation w and shift u minimising sum ((p_i + w x p_i + u - c_i) . n_i)^2 (6 x 6
+/// normal equations), composed onto s with the exact rotation of w. It converges in a few
+/// passes where point-to-point ICP creeps along a long lumen.
+IcpResult icp(vtkStaticCellLocator* locator, const std::vector<Eigen::Vector3d>& normals,
+              const std::vector<Vec3>& q, RigidTransform s, double voxel) {
   IcpResult r;
-  std::vector<Vec3> closest(q.size()), from, to;
+  std::vector<Vec3> closest(q.size()), moved(q.size());
+  std::vector<vtkIdType> cells(q.size());
   std::vector<double> d2(q.size()), sorted;
   double previous = std::numeric_limits<double>::infinity();
   for (r.iterations = 1; r.iterations <= 200; ++r.iterations) {
     for (std::size_t i = 0; i < q.size(); ++i) {
-      Vec3 p = s.apply(q[i]);
-      vtkIdType cell = 0;
+      moved[i] = s.apply(q[i]);
       int sub = 0;
-      locator->FindClosestPoint(p.data(), closest[i].data(), cell, sub, d2[i]);
+      locator->FindClosestPoint(moved[i].data(), closest[i].data(), cells[i], sub, d2[i]);
     }
     sorted = d2;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     const double limit = 9.0 * sorted[sorted.size() / 2]; // (3 x median distance)^2
-    from.clear(), to.clear();
+    Eigen::Matrix<double, 6, 6> a = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
     double sum = 0;
-    for (std::size_t i = 0; i < q.size(); ++i)
-      if (d2[i] <= limit || limit == 0.0) {
-        from.push_back(q[i]), to.push_back(closest[i]);
-        sum += d2[i];
-      }
-    r.rms = std::sqrt(sum / from.size());
-    r.kept = from.size();
+    r.kept = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      if (!(d2[i] <= limit || limit == 0.0))
+        continue;
+      const Eigen::Vector3d p = eig(moved[i]), n = normals[static_cast<std::size_t>(cells[i])];
+      Eigen::Matrix<double, 6, 1> row;
+      row << p.cross(n), n; // (w x p + u) . n = w . (p x n) + u . n
+      a += row * row.transpose();
+      b += row * (eig(closest[i]) - p).dot(n);
+      sum += d2[i];
+      ++r.kept;
+    }
+    r.rms = std::sqrt(sum / r.kept);
     r.s = s;
     if (std::abs(previous - r.rms) < 1e-6 * voxel)
       break;
     previous = r.rms;
-    s = fit_rigid(from, to);
+    const Eigen::Matrix<double, 6, 1> x = a.ldlt().solve(b);
+    const Eigen::Vector3d w = x.head<3>();
+    const Eigen::Matrix3d dr = w.norm() > 0
+                                   ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
+                                   : Eigen::Matrix3d::Identity();
+    // s <- (dr, u) o s, the small rotation taken about the origin as linearised.
+    s = make(dr * matrix(s), dr * eig(s.translation) + x.tail<3>());
   }
   return r;
 }
@@ -186,6 +204,14 @@ SurfaceFit fit_surface(const vtkSmartPointer<vtkPolyData>& model, const std::vec
   auto locator = vtkSmartPointer<vtkStaticCellLocator>::New();
   locator->SetDataSet(model);
   locator->BuildLocator();
+  std::vector<Eigen::Vector3d> normals(static_cast<std::size_t>(model->GetNumberOfCells()));
+  for (vtkIdType c = 0; c < model->GetNumberOfCells(); ++c) {
+    vtkPoints* p = model->GetCell(c)->GetPoints();
+    Eigen::Vector3d x0, x1, x2;
+    p->GetPoint(0, x0.data()), p->GetPoint(1, x1.data()), p->GetPoint(2, x2.data());
+    const Eigen::Vector3d n = (x1 - x0).cross(x2 - x0);
+    normals[static_cast<std::size_t>(c)] = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : n;
+  }
 
   std::vector<std::pair<RigidTransform, std::string>> starts;
   if (start) {
@@ -221,7 +247,7 @@ SurfaceFit fit_surface(const vtkSmartPointer<vtkPolyData>& model, const std::vec
   }
   std::vector<IcpResult> runs;
   for (const auto& [s, name] : starts)
-    runs.push_back(icp(locator, q, s, voxel));
+    runs.push_back(icp(locator, normals, q, s, voxel));
   double best = std::numeric_limits<double>::infinity();
   for (const IcpResult& r : runs)
     best = std::min(best, r.rms);

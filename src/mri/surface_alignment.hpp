@@ -5,11 +5,11 @@
 //      interpolation) of the time-mean magnitude at `lumen_fraction` of its 99th percentile
 //      (blood 1, static tissue 0.2 in the synthetic scanner: the level 0.6 is the half-blood
 //      partial-volume surface), its points in patient coordinates;
-//   2. rigid ICP (Besl & McKay 1992) of those points onto the mesh's boundary triangles:
-//      closest point on the surface per MRI point (points farther than 3x the median
-//      distance dropped as outliers: a field of view that cuts the model), the rigid
-//      least-squares fit (alignment.hpp) of the pairs, repeated until the RMS changes by
-//      < 1e-6 of a voxel or 200 iterations;
+//   2. rigid point-to-plane ICP (Chen & Medioni 1992) of those points onto the mesh's
+//      boundary triangles: closest point on the surface per MRI point (points farther than
+//      3x the median distance dropped as outliers: a field of view that cuts the model), the
+//      small rigid motion minimising the distances along the triangles' normals, repeated
+//      until the RMS distance changes by < 1e-6 of a voxel or 200 iterations;
 //   3. starts: the paired-point fit when given; otherwise the centroids' shift with no
 //      rotation and the four proper rotations taking the MRI points' principal axes onto the
 //      mesh's. The start with the smallest RMS wins; within 5 % of it, the smallest rotation
