@@ -12,8 +12,9 @@
 //      until the RMS distance changes by < 1e-6 of a voxel or 200 iterations;
 //   3. starts: the paired-point fit when given; otherwise the centroids' shift with no
 //      rotation and the four proper rotations taking the MRI points' principal axes onto the
-//      mesh's. The start with the smallest RMS wins; within 5 % of it, the smallest rotation
-//      (a symmetric geometry fits several ways equally well).
+//      mesh's. Each start runs 20 passes on every 8th point; the smallest RMS wins (within
+//      5 % of it, the smallest rotation: a symmetric geometry fits several ways equally
+//      well) and is refined on all points.
 // The result is the transform x_mri = R x_model + t of alignment.hpp.
 #include <filesystem>
 #include <optional>
