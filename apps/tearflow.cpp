@@ -6,6 +6,7 @@
 //   tearflow analyze RUN_DIR [--landmarks FILE] [--cycle N | --frames all]   (docs/analysis.md)
 //   tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]                   (docs/analysis.md)
 //   tearflow study STUDY.yaml [--check]                                      (docs/study.md)
+//   tearflow mri synthesize|flow|compare ...                                 (docs/mri.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
@@ -24,6 +25,7 @@
 #include "fem/petsc.hpp"
 #include "geometry/geometry_command.hpp"
 #include "io/case.hpp"
+#include "mri/mri_command.hpp"
 #include "run/default_case.hpp"
 #include "run/simulation.hpp"
 #include "run/solid_simulation.hpp"
@@ -141,6 +143,7 @@ int main(int argc, char** argv) {
   const analysis::AnalyzeCommand analyze_command(app);
   const analysis::ReportCommand report_command(app);
   const study::StudyCommand study_command(app);
+  const mri::MriCommand mri_command(app);
 
   int code = 0;
   bool all_ranks_stopped = false; // every rank caught the same error: none is left waiting
@@ -160,6 +163,8 @@ int main(int argc, char** argv) {
       code = report_command.run();
     if (study_command.selected())
       code = study_command.run();
+    if (mri_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
+      code = mri_command.run();
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
   } catch (const InputError& e) {

@@ -15,13 +15,13 @@
   const multi = data.runs.length > 1;
   let drawn = 0;
 
-  function figure(name, title, config) {
+  function figure(name, title, config, into) {
     const box = document.createElement('section');
     box.className = 'figure';
     box.innerHTML = '<h3></h3><div class="canvas"><canvas></canvas></div>' +
                     '<img class="figure-png" alt="" hidden>';
     box.querySelector('h3').textContent = title;
-    figures.appendChild(box);
+    (into || figures).appendChild(box);
     config.options = Object.assign({animation: false, responsive: true,
                                     maintainAspectRatio: false,
                                     devicePixelRatio: 2}, config.options || {});
@@ -117,6 +117,44 @@
     figure('maximum_area', 'Maximum cross-sectional area per landmark',
            {type: 'bar', data: {labels: names, datasets: bars},
             options: axes('landmark', 'A_max [mm^2]', false)});
+
+  // Simulation against 4D-flow MRI (`tearflow report --mri`): the Bland-Altman plot of every
+  // landmark's frame pairs (difference against mean, colour per landmark) with the pooled
+  // bias and limits of agreement, and per landmark both flow waveforms on the MRI frames.
+  if (data.mri) {
+    const mri = data.mri, into = document.getElementById('mri-figures');
+    const points = mri.landmarks.map((n, i) => {
+      const p = mri.pairs[n];
+      return {label: n, pointRadius: 3, borderColor: palette[i % palette.length],
+              backgroundColor: palette[i % palette.length],
+              data: p.mean_mL_per_s.map((m, k) => ({x: m, y: p.difference_mL_per_s[k]}))};
+    });
+    const all = points.flatMap((d) => d.data.map((p) => p.x));
+    const lo = Math.min(...all), hi = Math.max(...all);
+    const pooled = mri.pooled, loa = pooled.limits_of_agreement_mL_per_s;
+    [[pooled.bias_mL_per_s, 'mean difference', []], [loa[0], 'bias - 1.96 SD', [6, 4]],
+     [loa[1], 'bias + 1.96 SD', [6, 4]]].forEach(([y, name, dash]) => {
+      points.push({label: name + ' (' + y.toFixed(2) + ')', showLine: true, pointRadius: 0,
+                   borderColor: '#000', borderWidth: 1.5, borderDash: dash,
+                   data: [{x: lo, y}, {x: hi, y}]});
+    });
+    const options = axes('(Q_MRI + Q_sim) / 2 [mL/s]', 'Q_MRI - Q_sim [mL/s]', true);
+    options.plugins.legend.position = 'bottom'; // the lines' labels carry their values
+    figure('mri_bland_altman', 'Bland-Altman: MRI - simulation against their mean, all landmarks',
+           {type: 'scatter', data: {datasets: points}, options}, into);
+    mri.landmarks.forEach((n, i) => {
+      const p = mri.pairs[n], colour = palette[i % palette.length];
+      const line = (column, label, dash, radius) => ({
+        label, showLine: true, pointRadius: radius, borderWidth: 1.5, borderColor: colour,
+        backgroundColor: colour, borderDash: dash,
+        data: p.time_s.map((t, k) => ({x: t, y: p[column][k]}))});
+      figure('mri_flow_' + n, 'Flow rate at ' + n + ': simulation and MRI',
+             {type: 'scatter',
+              data: {datasets: [line('simulation_mL_per_s', 'simulation', [], 0),
+                                line('mri_mL_per_s', 'MRI', [6, 4], 3)]},
+              options: axes('time from the first MRI frame [s]', 'Q [mL/s]', true)}, into);
+    });
+  }
 
   document.body.dataset.rendered = String(drawn);
 })();

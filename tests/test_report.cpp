@@ -1,6 +1,9 @@
 // Measured data through the analysis, the deformed fluid of a fluid-structure frame, and the
 // report pages rendered in headless Chromium (issue 7).
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -45,7 +48,8 @@ std::filesystem::path analysed_two_lumen_run(const std::string& name) {
 
 /// Measurement tables of the same channel from its exact answers: flow and pressure at
 /// `frames` samples over the period, the (constant) areas at 3 other instants.
-std::filesystem::path measured_two_lumen(const std::string& name, int frames) {
+std::filesystem::path measured_two_lumen(const std::string& name, int frames,
+                                         double flow_scale = 1.0) {
   const SyntheticRun run = two_lumen_run();
   const std::filesystem::path dir = testing::fresh_dir(name);
   std::filesystem::create_directories(dir);
@@ -54,7 +58,8 @@ std::filesystem::path measured_two_lumen(const std::string& name, int frames) {
   pressure << "time_s,TL1_mmHg,FL1_mmHg,TL2_Pa,FL2_Pa\n";
   for (int i = 0; i < frames; ++i) {
     const double t = run.period * i / (frames - 1);
-    const double q0 = run.flow(0, t) / units::mL, q1 = run.flow(1, t) / units::mL;
+    const double q0 = flow_scale * run.flow(0, t) / units::mL,
+                 q1 = flow_scale * run.flow(1, t) / units::mL;
     flow << fmt::format("{:.12g},{:.12g},{:.12g},{:.12g},{:.12g}\n", t, q0, q1, q0, q1);
     pressure << fmt::format("{:.12g},{:.12g},{:.12g},{:.12g},{:.12g}\n", t,
                             run.pressure(0, 0.001, t) / units::mmHg,
@@ -199,6 +204,89 @@ TEST(Report, PagesRenderInHeadlessChromiumWithEveryFigure) {
     ++pngs;
   }
   EXPECT_EQ(pngs, 5) << r.output;
+}
+
+TEST(Report, MriComparisonSectionShowsTheStatisticsAndEveryFigure) {
+  // A "scan" reading 10 % more flow than the run, so that the differences are not zero.
+  const std::filesystem::path run = analysed_two_lumen_run("report-mri-run");
+  const std::filesystem::path measured = measured_two_lumen("report-mri-measured", 21, 1.1);
+  const std::filesystem::path compare = testing::fresh_dir("report-mri-compare");
+  testing::Result r = testing::run_tearflow(
+      fmt::format("mri compare -q {} {} -o {}", run.string(), measured.string(), compare.string()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  ASSERT_EQ(testing::run_tearflow("analyze -q " + measured.string()).code, 0);
+  const std::filesystem::path page = testing::fresh_dir("report-mri.html");
+  r = testing::run_tearflow(fmt::format("report {} {} -o {} --mri {} --png", run.string(),
+                                        measured.string(), page.string(), compare.string()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(page);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("Simulation against 4D-flow MRI"), std::string::npos);
+  // The pooled Bland-Altman row, recomputed here from flow_comparison.csv's differences.
+  std::ifstream csv(compare / "flow_comparison.csv");
+  std::string line;
+  std::getline(csv, line);
+  std::vector<double> d;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string c; std::getline(s, c, ',');)
+      cells.push_back(c);
+    ASSERT_EQ(cells.size(), 6u) << line;
+    d.push_back(std::stod(cells[4]));
+  }
+  ASSERT_EQ(d.size(), 4u * 21u); // 4 landmarks x 21 frames
+  double bias = 0, ss = 0;
+  for (double x : d)
+    bias += x / d.size();
+  for (double x : d)
+    ss += (x - bias) * (x - bias);
+  const double sd = std::sqrt(ss / (d.size() - 1));
+  // The MRI reads 10 % more: the bias is positive and the spread is not zero.
+  EXPECT_GT(bias, 0.0);
+  EXPECT_GT(sd, 0.0);
+  EXPECT_NE(text.find(fmt::format("<td>all ({} pairs)</td>", d.size())), std::string::npos);
+  EXPECT_NE(text.find(fmt::format("<td>{:.2f} &plusmn; {:.2f}</td><td>{:.2f} to {:.2f}</td>", bias,
+                                  sd, bias - 1.96 * sd, bias + 1.96 * sd)),
+            std::string::npos)
+      << "pooled bias " << bias << " SD " << sd;
+  // Every landmark's row carries compare.json's limits of agreement and r; the FL flow ratio
+  // of each station is in its table.
+  const nlohmann::json c = read_json(compare / "compare.json");
+  for (const char* landmark : {"TL1", "FL1", "TL2", "FL2"}) {
+    const nlohmann::json& l = c["landmarks"][landmark];
+    const nlohmann::json& loa = l["limits_of_agreement_mL_per_s"];
+    EXPECT_NE(
+        text.find(fmt::format("<td>{:.2f} to {:.2f}</td><td>{:.4f}</td>", loa[0].get<double>(),
+                              loa[1].get<double>(), l["correlation"].get<double>())),
+        std::string::npos)
+        << landmark;
+  }
+  for (const char* k : {"1", "2"}) {
+    const nlohmann::json& f = c["fl_flow_ratio_percent"][k];
+    EXPECT_NE(text.find(fmt::format("<tr><td>{}</td><td>{:.1f}</td><td>{:.1f}</td>", k,
+                                    f["simulation"].get<double>(), f["mri"].get<double>())),
+              std::string::npos)
+        << k;
+  }
+  // Figures: the page's 5 (test above), the Bland-Altman plot and one waveform per landmark.
+  std::filesystem::path figures = page;
+  figures.replace_extension("");
+  figures += "_figures";
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(figures)) {
+    EXPECT_GT(std::filesystem::file_size(entry.path()), 2000u) << entry.path();
+    names.push_back(entry.path().stem().string());
+  }
+  EXPECT_EQ(names.size(), 10u) << r.output;
+  for (const char* name :
+       {"mri_bland_altman", "mri_flow_TL1", "mri_flow_FL1", "mri_flow_TL2", "mri_flow_FL2"})
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+
+  // A folder that `mri compare` did not write: the missing file is named, exit 2.
+  r = testing::run_tearflow(fmt::format("report {} --mri {}", run.string(), measured.string()));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("compare.json' does not exist"), std::string::npos) << r.output;
 }
 
 } // namespace

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <vtkBase64Utilities.h>
 
+#include "analysis/report_mri.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
 #include "tuning/targets.hpp"
@@ -214,7 +215,7 @@ json report_run_data(const std::filesystem::path& run_dir,
   return run;
 }
 
-std::string report_html(const std::vector<json>& runs) {
+std::string report_html(const std::vector<json>& runs, const json& mri) {
   const std::filesystem::path chart_js = kAssets / "node_modules/chart.js/dist/chart.umd.js";
   if (!std::filesystem::exists(chart_js))
     input_error("'{}' does not exist: the report's charting library is installed by "
@@ -237,9 +238,16 @@ std::string report_html(const std::vector<json>& runs) {
           headline_table(runs) +
           "<pre id=\"script-errors\"></pre>\n<h2>Figures</h2>\n"
           "<div id=\"figures\"></div>\n";
+  if (!mri.is_null())
+    html += "<h2>Simulation against 4D-flow MRI</h2>\n<p>From '" +
+            escape_html(mri["dir"].get<std::string>()) +
+            "' (`tearflow mri compare`; docs/mri.md). Differences are MRI &minus; simulation "
+            "on the MRI frames.</p>\n" +
+            mri_comparison_table(mri) + "<div id=\"mri-figures\"></div>\n";
   html += "<script>\n" + inline_script(read_text(chart_js, "Chart.js")) + "\n</script>\n";
-  html += "<script>window.TEARFLOW_DATA = " + inline_script(json{{"runs", runs}}.dump()) +
-          ";</script>\n";
+  html +=
+      "<script>window.TEARFLOW_DATA = " + inline_script(json{{"runs", runs}, {"mri", mri}}.dump()) +
+      ";</script>\n";
   html += "<script>\n" + inline_script(read_text(kAssets / "report.js", "the report's script")) +
           "\n</script>\n</body></html>\n";
   return html;

@@ -17,8 +17,10 @@ namespace tearflow::analysis {
 nlohmann::json report_run_data(const std::filesystem::path& run_dir,
                                const std::filesystem::path& analysis_dir);
 
-/// The HTML page of one run (runs.size() == 1) or of several compared.
-std::string report_html(const std::vector<nlohmann::json>& runs);
+/// The HTML page of one run (runs.size() == 1) or of several compared; with `mri`
+/// (report_mri_data, report_mri.hpp) also the section of the simulation against 4D-flow MRI.
+std::string report_html(const std::vector<nlohmann::json>& runs,
+                        const nlohmann::json& mri = nullptr);
 
 /// What headless Chromium made of a page.
 struct RenderedPage {

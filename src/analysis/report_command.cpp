@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "analysis/report.hpp"
+#include "analysis/report_mri.hpp"
 #include "core/error.hpp"
 #include "io/vtu_series.hpp"
 
@@ -38,6 +39,9 @@ ReportCommand::ReportCommand(CLI::App& app) {
       ->required();
   command_->add_option("-o,--output", comparison_,
                        "comparison page when several runs are given (default comparison.html)");
+  command_->add_option("--mri", mri_,
+                       "folder written by `tearflow mri compare`: adds the simulation-MRI "
+                       "statistics, Bland-Altman plot and flow waveforms to every page");
   command_->add_flag("--png", png_,
                      "render in headless Chromium and save each figure as PNG (analysis/figures/)");
   command_->add_option("--chromium", chromium_, "the browser for --png (default chromium)");
@@ -46,18 +50,19 @@ ReportCommand::ReportCommand(CLI::App& app) {
 
 int ReportCommand::run() const {
   std::vector<nlohmann::json> runs;
+  const nlohmann::json mri = mri_.empty() ? nlohmann::json() : report_mri_data(mri_);
   for (const std::string& dir : run_dirs_) {
     const std::filesystem::path analysis = std::filesystem::path(dir) / "analysis";
     runs.push_back(report_run_data(dir, analysis));
-    write_page(report_html({runs.back()}), analysis / "report.html", png_, analysis / "figures",
-               chromium_, quiet_);
+    write_page(report_html({runs.back()}, mri), analysis / "report.html", png_,
+               analysis / "figures", chromium_, quiet_);
   }
   if (runs.size() > 1) {
     const std::filesystem::path page = comparison_;
     std::filesystem::path figures = page;
     figures.replace_extension("");
     figures += "_figures";
-    write_page(report_html(runs), page, png_, figures, chromium_, quiet_);
+    write_page(report_html(runs, mri), page, png_, figures, chromium_, quiet_);
   }
   return 0;
 }

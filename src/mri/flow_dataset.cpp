@@ -1,0 +1,121 @@
+// The 4D-flow dataset's geometry: index <-> patient point, grids, trilinear weights.
+#include "mri/flow_dataset.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.hpp"
+
+namespace tearflow::mri {
+
+namespace {
+Vec3 normalized(const Vec3& v) {
+  const double n = std::sqrt(dot(v, v));
+  return (1.0 / n) * v;
+}
+} // namespace
+
+Vec3 ImageGrid::point(const Vec3& index) const {
+  Vec3 p = origin;
+  for (int a = 0; a < 3; ++a)
+    p = p + (index[a] * spacing[a]) * direction[a];
+  return p;
+}
+
+Vec3 ImageGrid::index(const Vec3& p) const {
+  // The direction rows are orthonormal, so the inverse is the transpose.
+  const Vec3 d = p - origin;
+  return {dot(d, direction[0]) / spacing[0], dot(d, direction[1]) / spacing[1],
+          dot(d, direction[2]) / spacing[2]};
+}
+
+bool ImageGrid::same_as(const ImageGrid& o) const {
+  if (size != o.size)
+    return false;
+  const double h = std::min({spacing[0], spacing[1], spacing[2]});
+  const double tol = 1e-4 * h;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(spacing[a] - o.spacing[a]) > tol)
+      return false;
+    for (int b = 0; b < 3; ++b)
+      if (std::abs(direction[a][b] - o.direction[a][b]) > 1e-4)
+        return false;
+  }
+  const Vec3 d = origin - o.origin;
+  return std::sqrt(dot(d, d)) <= tol;
+}
+
+ImageGrid centred_grid(const Vec3& centre, const Mat3& direction, std::array<int, 3> size,
+                       const Vec3& spacing) {
+  ImageGrid g;
+  g.size = size;
+  g.spacing = spacing;
+  // Gram-Schmidt, so that a direction read with rounding stays a rotation.
+  g.direction[0] = normalized(direction[0]);
+  g.direction[1] = normalized(direction[1] - dot(direction[1], g.direction[0]) * g.direction[0]);
+  g.direction[2] = cross(g.direction[0], g.direction[1]);
+  g.origin = centre;
+  for (int a = 0; a < 3; ++a)
+    g.origin = g.origin - (0.5 * (size[a] - 1) * spacing[a]) * g.direction[a];
+  return g;
+}
+
+Mat3 rotation(const Vec3& axis, double degrees) {
+  const Vec3 k = normalized(axis);
+  const double t = degrees * std::numbers::pi / 180.0, c = std::cos(t), s = std::sin(t);
+  Mat3 rows{};
+  const Mat3 e{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  for (int a = 0; a < 3; ++a) // v cos t + (k x v) sin t + k (k.v)(1 - cos t)
+    rows[a] = c * e[a] + s * cross(k, e[a]) + (dot(k, e[a]) * (1 - c)) * k;
+  return rows;
+}
+
+void Flow4D::check(const std::string& where) const {
+  const std::size_t n = grid.count();
+  if (n == 0)
+    input_error("{}: empty image grid", where);
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const Frame& fr = frames[f];
+    if (fr.magnitude.size() != n || fr.velocity[0].size() != n || fr.velocity[1].size() != n ||
+        fr.velocity[2].size() != n)
+      input_error("{}: frame {} does not hold {} voxels in each image", where, f, n);
+    if (f > 0 && !(fr.time > frames[f - 1].time))
+      input_error("{}: frame times must increase (frame {} at {} s after {} s)", where, f, fr.time,
+                  frames[f - 1].time);
+  }
+}
+
+bool Trilinear::locate(const ImageGrid& grid, const Vec3& index) {
+  std::array<int, 3> i0{};
+  std::array<double, 3> f{};
+  for (int a = 0; a < 3; ++a) {
+    const double x = index[a];
+    if (grid.size[a] == 1) {
+      if (std::abs(x) > 0.5)
+        return false;
+      i0[a] = 0, f[a] = 0.0;
+      continue;
+    }
+    if (!(x >= 0.0 && x <= grid.size[a] - 1))
+      return false;
+    i0[a] = std::min(static_cast<int>(x), grid.size[a] - 2);
+    f[a] = x - i0[a];
+  }
+  const std::array<int, 3> step{grid.size[0] > 1 ? 1 : 0, grid.size[1] > 1 ? 1 : 0,
+                                grid.size[2] > 1 ? 1 : 0};
+  int c = 0;
+  for (int dk = 0; dk < 2; ++dk)
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di, ++c) {
+        voxel[c] = grid.linear(i0[0] + di * step[0], i0[1] + dj * step[1], i0[2] + dk * step[2]);
+        weight[c] = (di ? f[0] : 1 - f[0]) * (dj ? f[1] : 1 - f[1]) * (dk ? f[2] : 1 - f[2]);
+      }
+  return true;
+}
+
+double wrap_velocity(double v, double venc) {
+  return v - 2.0 * venc * std::floor((v + venc) / (2.0 * venc));
+}
+
+} // namespace tearflow::mri

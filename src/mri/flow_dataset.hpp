@@ -1,0 +1,81 @@
+#pragma once
+// A time-resolved 4D-flow MRI dataset, as every part of src/mri uses it: per cardiac frame a
+// magnitude image and the three velocity components on one voxel grid placed in patient
+// coordinates. Patient coordinates are DICOM's LPS (x towards the patient's left, y
+// posterior, z head), in metres; velocities are the LPS components in m/s, whatever the
+// scanner encoded (the readers convert). No ITK here: this header is included widely.
+//
+// Voxel (i, j, k) has its centre at  p = origin + sum_a index_a spacing_a direction[a],
+// direction[a] the unit vector of index axis a (DICOM's row and column directions and the
+// slice normal; ITK's direction matrix has them as columns).
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace tearflow::mri {
+
+struct ImageGrid {
+  std::array<int, 3> size{};                         ///< voxels along i, j, k
+  Vec3 origin{};                                     ///< centre of voxel (0, 0, 0) [m]
+  Vec3 spacing{};                                    ///< voxel size along i, j, k [m]
+  Mat3 direction{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}; ///< unit index axes in LPS
+
+  std::size_t count() const { return static_cast<std::size_t>(size[0]) * size[1] * size[2]; }
+  std::size_t linear(int i, int j, int k) const {
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(size[0]) * (j + std::size_t(size[1]) * k);
+  }
+  /// Patient point of a continuous index (i, j, k).
+  Vec3 point(const Vec3& index) const;
+  /// Continuous index of a patient point (the inverse of point()).
+  Vec3 index(const Vec3& p) const;
+  /// True when the two grids place the same voxels at the same points (within 1e-4 voxel).
+  bool same_as(const ImageGrid& other) const;
+};
+
+/// A grid of `size` voxels of `spacing`, centred on `centre`, its index axes the rows of
+/// `direction` (orthonormalised here).
+ImageGrid centred_grid(const Vec3& centre, const Mat3& direction, std::array<int, 3> size,
+                       const Vec3& spacing);
+
+/// The rotation by `degrees` about the unit `axis` (Rodrigues), as rows: the direction
+/// matrix of a grid rotated from the patient axes.
+Mat3 rotation(const Vec3& axis, double degrees);
+
+struct Frame {
+  double time = 0.0;                          ///< after the trigger, the window's centre [s]
+  std::vector<float> magnitude;               ///< signal [arbitrary units], per voxel
+  std::array<std::vector<float>, 3> velocity; ///< LPS components [m/s], per voxel
+};
+
+struct Flow4D {
+  ImageGrid grid;
+  double venc = 0.0;         ///< velocity encoding [m/s]: +-venc is the phase range; 0 unknown
+  double frame_window = 0.0; ///< time each frame averages over [s]; 0 unknown
+  std::vector<Frame> frames; ///< in time order
+  /// InputError (naming `where`) for frames of the wrong size or out of time order.
+  void check(const std::string& where) const;
+};
+
+/// The eight voxels and weights of trilinear interpolation at a continuous index, found
+/// once and applied to several fields (magnitude and the three components).
+struct Trilinear {
+  std::array<std::size_t, 8> voxel{};
+  std::array<double, 8> weight{};
+  /// False outside the hull of the voxel centres.
+  bool locate(const ImageGrid& grid, const Vec3& index);
+  double operator()(const std::vector<float>& field) const {
+    double v = 0.0;
+    for (int c = 0; c < 8; ++c)
+      v += weight[c] * field[voxel[c]];
+    return v;
+  }
+};
+
+/// The phase wrap of a velocity: v mapped into [-venc, venc).
+double wrap_velocity(double v, double venc);
+
+} // namespace tearflow::mri

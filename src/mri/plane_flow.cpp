@@ -1,0 +1,223 @@
+// Landmark-plane flow from 4D-flow data (plane_flow.hpp for the method).
+#include "mri/plane_flow.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "analysis/landmark_sections.hpp"
+#include "core/error.hpp"
+#include "core/units.hpp"
+
+namespace tearflow::mri {
+
+namespace {
+
+Vec3 unit(const Vec3& v) {
+  return (1.0 / std::sqrt(dot(v, v))) * v;
+}
+
+/// Two unit vectors spanning the plane normal to n.
+std::pair<Vec3, Vec3> plane_axes(const Vec3& n) {
+  const Vec3 helper = std::abs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 e1 = unit(cross(n, helper));
+  return {e1, cross(n, e1)};
+}
+
+/// The reformatted plane: per pixel magnitude and through-plane velocity of one frame.
+struct Reformat {
+  int side = 0;
+  double pixel = 0.0;
+  std::vector<Trilinear> weights; ///< per pixel (voxel < 0 weight: outside the image)
+  std::vector<char> inside;
+};
+
+Reformat make_reformat(const ImageGrid& g, const geometry::Landmark& lm, const PlaneOptions& o) {
+  Reformat r;
+  r.pixel = o.pixel > 0 ? o.pixel : 0.5 * std::min({g.spacing[0], g.spacing[1], g.spacing[2]});
+  r.side = 2 * static_cast<int>(std::ceil(o.half_width / r.pixel)) + 1;
+  const Vec3 n = unit(lm.normal);
+  const auto [e1, e2] = plane_axes(n);
+  const int h = r.side / 2;
+  r.weights.resize(static_cast<std::size_t>(r.side) * r.side);
+  r.inside.resize(r.weights.size());
+  for (int b = 0; b < r.side; ++b)
+    for (int a = 0; a < r.side; ++a) {
+      const Vec3 p = lm.origin + ((a - h) * r.pixel) * e1 + ((b - h) * r.pixel) * e2;
+      const std::size_t px = static_cast<std::size_t>(b) * r.side + a;
+      r.inside[px] = r.weights[px].locate(g, g.index(p));
+    }
+  return r;
+}
+
+/// The pixel of a patient point on the plane (projected), or -1 outside the square.
+long pixel_of(const Reformat& r, const geometry::Landmark& lm, const Vec3& p) {
+  const Vec3 n = unit(lm.normal);
+  const auto [e1, e2] = plane_axes(n);
+  const int h = r.side / 2;
+  const int a = static_cast<int>(std::lround(dot(p - lm.origin, e1) / r.pixel)) + h;
+  const int b = static_cast<int>(std::lround(dot(p - lm.origin, e2) / r.pixel)) + h;
+  if (a < 0 || b < 0 || a >= r.side || b >= r.side)
+    return -1;
+  return static_cast<long>(b) * r.side + a;
+}
+
+/// 4-connected region of `mask` holding `seed`.
+std::vector<char> region_of(const std::vector<char>& mask, int side, long seed) {
+  std::vector<char> region(mask.size(), 0);
+  std::vector<long> stack{seed};
+  region[seed] = 1;
+  while (!stack.empty()) {
+    const long p = stack.back();
+    stack.pop_back();
+    const int a = static_cast<int>(p % side), b = static_cast<int>(p / side);
+    const long next[4] = {a > 0 ? p - 1 : -1, a + 1 < side ? p + 1 : -1, b > 0 ? p - side : -1,
+                          b + 1 < side ? p + side : -1};
+    for (long q : next)
+      if (q >= 0 && mask[q] && !region[q]) {
+        region[q] = 1;
+        stack.push_back(q);
+      }
+  }
+  return region;
+}
+
+/// `region` grown by `steps` pixels (8-connected: a square neighbourhood per step).
+std::vector<char> grown(std::vector<char> region, int side, int steps) {
+  for (int s = 0; s < steps; ++s) {
+    std::vector<char> next = region;
+    for (int b = 0; b < side; ++b)
+      for (int a = 0; a < side; ++a) {
+        if (!region[static_cast<std::size_t>(b) * side + a])
+          continue;
+        for (int db = -1; db <= 1; ++db)
+          for (int da = -1; da <= 1; ++da) {
+            const int x = a + da, y = b + db;
+            if (x >= 0 && y >= 0 && x < side && y < side)
+              next[static_cast<std::size_t>(y) * side + x] = 1;
+          }
+      }
+    region.swap(next);
+  }
+  return region;
+}
+
+} // namespace
+
+std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Landmarks& landmarks,
+                                        const PlaneOptions& o) {
+  const ImageGrid& g = data.grid;
+  std::vector<PlaneSeries> out;
+  // Frame 0's lumen region and lumen point per landmark, to check that a station's TL and FL
+  // planes picked two different regions.
+  std::vector<std::vector<char>> first_region;
+  std::vector<long> seeds;
+  for (const geometry::Landmark& lm : landmarks.planes) {
+    const Reformat r = make_reformat(g, lm, o);
+    const Vec3 n = unit(lm.normal);
+    const double dA = r.pixel * r.pixel;
+    const double margin = o.flow_margin >= 0
+                              ? o.flow_margin
+                              : 0.5 * std::max({g.spacing[0], g.spacing[1], g.spacing[2]});
+    const int grow = static_cast<int>(std::lround(margin / r.pixel));
+    const long seed = pixel_of(r, lm, lm.point.value_or(lm.origin));
+    if (seed < 0 || !r.inside[seed])
+      input_error("landmark '{}': its lumen point lies outside the image", lm.name);
+    PlaneSeries s;
+    s.name = lm.name;
+    const std::size_t npx = r.weights.size();
+    std::vector<double> mag(npx), vn(npx);
+    std::vector<char> mask(npx);
+    for (std::size_t f = 0; f < data.frames.size(); ++f) {
+      const Frame& fr = data.frames[f];
+      for (std::size_t p = 0; p < npx; ++p) {
+        if (!r.inside[p]) {
+          mag[p] = vn[p] = 0.0;
+          continue;
+        }
+        const Trilinear& w = r.weights[p];
+        mag[p] = w(fr.magnitude);
+        vn[p] = w(fr.velocity[0]) * n[0] + w(fr.velocity[1]) * n[1] + w(fr.velocity[2]) * n[2];
+      }
+      // The lumen point's magnitude: median of its 3 x 3 pixels (robust to noise).
+      std::vector<double> around;
+      const int sa = static_cast<int>(seed % r.side), sb = static_cast<int>(seed / r.side);
+      for (int db = -1; db <= 1; ++db)
+        for (int da = -1; da <= 1; ++da) {
+          const int x = sa + da, y = sb + db;
+          if (x >= 0 && y >= 0 && x < r.side && y < r.side)
+            around.push_back(mag[static_cast<std::size_t>(y) * r.side + x]);
+        }
+      std::nth_element(around.begin(), around.begin() + around.size() / 2, around.end());
+      const double threshold = o.lumen_fraction * around[around.size() / 2];
+      if (!(threshold > 0))
+        input_error("landmark '{}', frame {}: no signal at the lumen point", lm.name, f);
+      for (std::size_t p = 0; p < npx; ++p)
+        mask[p] = r.inside[p] && mag[p] >= threshold;
+      mask[seed] = 1; // the point is in its lumen by definition
+      const std::vector<char> lumen = region_of(mask, r.side, seed);
+      if (f == 0) {
+        first_region.push_back(lumen);
+        seeds.push_back(seed);
+      }
+      const std::vector<char> flow_region = grown(lumen, r.side, grow);
+      double area = 0.0, flow = 0.0, peak = -1e300;
+      for (std::size_t p = 0; p < npx; ++p) {
+        if (lumen[p]) {
+          area += dA;
+          peak = std::max(peak, vn[p]);
+        }
+        if (flow_region[p] && r.inside[p])
+          flow += vn[p] * dA;
+      }
+      s.flow.push_back(flow);
+      s.area.push_back(area);
+      s.peak_velocity.push_back(peak);
+    }
+    out.push_back(std::move(s));
+  }
+  const auto& planes = landmarks.planes;
+  for (std::size_t a = 0; a < planes.size(); ++a)
+    for (std::size_t b = 0; b < planes.size(); ++b) {
+      const int k = analysis::station_of(planes[a]);
+      const Vec3 d = planes[a].origin - planes[b].origin;
+      const bool same_plane =
+          dot(d, d) < 1e-18 && dot(unit(planes[a].normal), unit(planes[b].normal)) > 1 - 1e-12;
+      if (a != b && k > 0 && planes[a].lumen == "TL" && planes[b].lumen == "FL" &&
+          analysis::station_of(planes[b]) == k && same_plane && first_region[a][seeds[b]])
+        input_error("landmarks '{}' and '{}': their lumen points fall in one connected lumen "
+                    "region (frame 0): the flap between them is not resolved at this voxel "
+                    "size, or the lumen threshold is too low (raise --lumen-fraction)",
+                    planes[a].name, planes[b].name);
+    }
+  return out;
+}
+
+void write_measured_tables(const Flow4D& data, const std::vector<PlaneSeries>& series,
+                           const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  auto write = [&](const char* name, const char* suffix, double scale,
+                   std::vector<double> PlaneSeries::*field) {
+    const std::filesystem::path file = dir / name;
+    std::ofstream out(file);
+    if (!out)
+      input_error("cannot write '{}'", file.string());
+    out << "time_s";
+    for (const PlaneSeries& s : series)
+      out << ',' << s.name << suffix;
+    out << '\n';
+    for (std::size_t f = 0; f < data.frames.size(); ++f) {
+      out << fmt::format("{:.6g}", data.frames[f].time);
+      for (const PlaneSeries& s : series)
+        out << ',' << fmt::format("{:.8g}", (s.*field)[f] / scale);
+      out << '\n';
+    }
+  };
+  write("flow.csv", "_mL_per_s", units::mL, &PlaneSeries::flow);
+  write("area.csv", "_mm2", units::mm * units::mm, &PlaneSeries::area);
+  write("velocity.csv", "_peak_m_per_s", 1.0, &PlaneSeries::peak_velocity);
+}
+
+} // namespace tearflow::mri
