@@ -11,8 +11,10 @@
 #include "core/error.hpp"
 #include "core/units.hpp"
 #include "geometry/landmarks.hpp"
+#include "geometry/sections.hpp"
 #include "io/case_yaml.hpp"
 #include "io/vtu_series.hpp"
+#include "mesh/readers.hpp"
 #include "study/child_process.hpp"
 
 namespace tearflow::study {
@@ -304,8 +306,13 @@ void StudyRunner::write_summary() const {
     json entry;
     const geometry::Landmarks landmarks =
         geometry::read_landmarks(geometry_dir(v) / "landmarks.json");
-    for (const geometry::TearLandmark& t : landmarks.tears)
-      entry["tear_area_mm2"][t.name] = t.area / (units::mm * units::mm);
+    // The tear areas as the mesh has them (the hole in the flap's mid-plane), beside the
+    // areas the landmarks declare (the recipe's, for a built-in model).
+    const mesh::Mesh mesh = mesh::read_gmsh(geometry_dir(v) / "mesh.msh", units::mm);
+    for (const geometry::TearLandmark& t : landmarks.tears) {
+      entry["tear_area_mm2"][t.name] = geometry::tear_area(mesh, t) / (units::mm * units::mm);
+      entry["tear_area_declared_mm2"][t.name] = t.area / (units::mm * units::mm);
+    }
     const json metrics = read_json(dir(v) / "run" / "analysis" / "metrics.json");
     if (metrics.is_object()) {
       for (const char* key :
