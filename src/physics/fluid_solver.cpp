@@ -11,27 +11,6 @@
 
 namespace tearflow::physics {
 
-namespace {
-/// Errors thrown inside PETSc callbacks must not cross PETSc's C frames: they are stored
-/// and re-thrown once SNESSolve has returned.
-// Runs a PETSc callback's body: an exception becomes an error code PETSc can pass on, its
-// message kept for the report, and whether every rank raised it (SolverError::collective).
-template <typename F> PetscErrorCode guarded(std::string& error, bool& collective, F&& f) {
-  try {
-    f();
-    return 0;
-  } catch (const SolverError& e) {
-    error = e.what();
-    collective = e.collective;
-    return PETSC_ERR_LIB;
-  } catch (const std::exception& e) {
-    error = e.what();
-    collective = false;
-    return PETSC_ERR_LIB;
-  }
-}
-} // namespace
-
 std::vector<std::pair<const char*, const char*>> FluidProblem::default_solver_options() {
   return {{"-fluid_pc_type", "fieldsplit"},
           {"-fluid_pc_fieldsplit_0_fields", "0,1,2"},
@@ -111,7 +90,7 @@ template <typename Problem> PetscErrorCode NewtonStepper<Problem>::shell_mult(Ma
   void* ctx;
   MatShellGetContext(J, &ctx);
   auto* self = static_cast<NewtonStepper*>(ctx);
-  return guarded(self->callback_error_, self->callback_collective_, [&] {
+  return self->callback_error_.guard([&] {
     TF_PETSC(MatMult(self->P_, x, y));
     self->problem_.add_coupled_outlets(x, y);
   });
@@ -121,8 +100,7 @@ template <typename Problem>
 PetscErrorCode NewtonStepper<Problem>::form_residual(SNES, Vec U, Vec R, void* ctx) {
   auto* self = static_cast<NewtonStepper*>(ctx);
   const double t0 = MPI_Wtime();
-  const PetscErrorCode err = guarded(self->callback_error_, self->callback_collective_,
-                                     [&] { self->problem_.residual(U, R); });
+  const PetscErrorCode err = self->callback_error_.guard([&] { self->problem_.residual(U, R); });
   self->assembly_seconds_ += MPI_Wtime() - t0;
   return err;
 }
@@ -131,7 +109,7 @@ template <typename Problem>
 PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES, Vec U, Mat, Mat P, void* ctx) {
   auto* self = static_cast<NewtonStepper*>(ctx);
   const double t0 = MPI_Wtime();
-  const PetscErrorCode err = guarded(self->callback_error_, self->callback_collective_, [&] {
+  const PetscErrorCode err = self->callback_error_.guard([&] {
     self->problem_.jacobian(U, P);
     if (self->has_coupled_outlets_) {
       TF_PETSC(MatAssemblyBegin(self->J_, MAT_FINAL_ASSEMBLY));
@@ -188,15 +166,15 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
 
   if (err != 0 || reason < 0 || !std::isfinite(fnorm)) {
     TF_PETSC(VecCopy(U_prev_, U_)); // leave the last good state in place
-    const std::string why = !callback_error_.empty() ? callback_error_
-                            : !std::isfinite(fnorm)  ? std::string("residual is not a number")
-                                                     : SNESConvergedReasons[reason];
+    const std::string why = !callback_error_.message.empty() ? callback_error_.message
+                            : !std::isfinite(fnorm) ? std::string("residual is not a number")
+                                                    : SNESConvergedReasons[reason];
     // SNES's reason and the residual norm are the same on every rank; an error raised in a
     // callback (err != 0) may be one rank's only, unless it says otherwise.
     throw SolverError(fmt::format("Newton failed in the step from t = {:.6g} s to {:.6g} s after "
                                   "{} iterations (residual {:.3e}, initial {:.3e}): {}",
                                   t, t + dt, its, fnorm, report.residual_initial, why),
-                      err == 0 || callback_collective_);
+                      err == 0 || callback_error_.collective);
   }
   problem_.update_acceleration(U_, U_prev_, Udot_);
   problem_.commit_step(U_);

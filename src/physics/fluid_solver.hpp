@@ -7,6 +7,7 @@
 #include <string>
 
 #include "io/case.hpp"
+#include "physics/callback_error.hpp"
 #include "physics/fluid_problem.hpp"
 
 namespace tearflow::physics {
@@ -46,8 +47,7 @@ private:
   fem::OwnedSNES snes_;
   bool has_coupled_outlets_ = false;
   double assembly_seconds_ = 0.0;
-  std::string callback_error_;
-  bool callback_collective_ = false;             ///< callback_error_ was raised on every rank
+  CallbackError callback_error_;
   std::array<PetscReal, 64> residual_history_{}; ///< ||R|| per Newton iteration, from SNES
 };
 

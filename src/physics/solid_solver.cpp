@@ -9,17 +9,6 @@
 namespace tearflow::physics {
 
 namespace {
-/// Errors thrown inside PETSc callbacks must not cross PETSc's C frames: they are stored
-/// and re-thrown once SNESSolve has returned.
-template <typename F> PetscErrorCode guarded(std::string& error, F&& f) {
-  try {
-    f();
-    return 0;
-  } catch (const std::exception& e) {
-    error = e.what();
-    return PETSC_ERR_LIB;
-  }
-}
 /// Measured on bench/solid_step.py (tube wall, 100 k tets, nu = 0.49; docs/performance.md):
 /// hypre's defaults took 7.2 s per Newton iteration, GAMG on the velocity block 2.5 s,
 /// MUMPS LU 26 s; HMIS coarsening with ext+i interpolation, P_max 4 and one level of
@@ -130,7 +119,7 @@ void SolidSolver::set_default_split() {
 PetscErrorCode SolidSolver::form_residual(SNES, Vec U, Vec R, void* ctx) {
   auto* self = static_cast<SolidSolver*>(ctx);
   const double t0 = MPI_Wtime();
-  const PetscErrorCode err = guarded(self->callback_error_, [&] { self->problem_.residual(U, R); });
+  const PetscErrorCode err = self->callback_error_.guard([&] { self->problem_.residual(U, R); });
   self->assembly_seconds_ += MPI_Wtime() - t0;
   return err;
 }
@@ -138,7 +127,7 @@ PetscErrorCode SolidSolver::form_residual(SNES, Vec U, Vec R, void* ctx) {
 PetscErrorCode SolidSolver::form_jacobian(SNES, Vec U, Mat, Mat P, void* ctx) {
   auto* self = static_cast<SolidSolver*>(ctx);
   const double t0 = MPI_Wtime();
-  const PetscErrorCode err = guarded(self->callback_error_, [&] { self->problem_.jacobian(U, P); });
+  const PetscErrorCode err = self->callback_error_.guard([&] { self->problem_.jacobian(U, P); });
   self->assembly_seconds_ += MPI_Wtime() - t0;
   return err;
 }
@@ -173,12 +162,13 @@ StepReport SolidSolver::step(double t, double dt) {
 
   if (err != 0 || reason < 0 || !std::isfinite(fnorm)) {
     TF_PETSC(VecCopy(U_prev_, U_)); // D and A are still t's
-    const std::string why = !callback_error_.empty() ? callback_error_
-                            : !std::isfinite(fnorm)  ? std::string("residual is not a number")
-                                                     : SNESConvergedReasons[reason];
+    const std::string why = !callback_error_.message.empty() ? callback_error_.message
+                            : !std::isfinite(fnorm) ? std::string("residual is not a number")
+                                                    : SNESConvergedReasons[reason];
     throw SolverError(fmt::format("solid: Newton failed in the step from t = {:.6g} s to {:.6g} s "
                                   "after {} iterations (residual {:.3e}, initial {:.3e}): {}",
-                                  t, t + dt, its, fnorm, report.residual_initial, why));
+                                  t, t + dt, its, fnorm, report.residual_initial, why),
+                      err == 0 || callback_error_.collective); // as the fluid's (fluid_solver.cpp)
   }
   problem_.update_state(U_, D_, A_);
   return report;

@@ -38,7 +38,7 @@ private:
   fem::OwnedMat J_;
   fem::OwnedSNES snes_;
   double assembly_seconds_ = 0.0;
-  std::string callback_error_;
+  CallbackError callback_error_;
   std::array<PetscReal, 64> residual_history_{};
 };
 

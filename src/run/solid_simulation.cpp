@@ -183,7 +183,7 @@ RunSummary SolidSimulation::run(const RunOptions& options) {
       r = advance();
     } catch (const SolverError& e) {
       write_faces_csv();
-      throw SolverError(fmt::format("{} (step {})", e.what(), step_ + 1));
+      throw SolverError(fmt::format("{} (step {})", e.what(), step_ + 1), e.collective);
     }
     summary.reports.push_back(r);
     ++summary.steps;
