@@ -2,9 +2,11 @@
 // The analytic 4D-flow scans of the MRI tests: Womersley flow in a pipe of blood (radius 6 mm:
 // alpha 8.7 at 75 beats per minute, 8 voxels of 1.5 mm across; 9 mm: the descending aorta's
 // size, 12 across), and its one landmark plane across the pipe.
+#include <algorithm>
 #include <cmath>
 
 #include "geometry/landmarks.hpp"
+#include "mri/plane_flow.hpp"
 #include "mri/synthetic.hpp"
 
 namespace tearflow::testing {
@@ -42,6 +44,18 @@ inline geometry::Landmarks test_pipe_landmarks(const mri::PipeScan& s) {
   p.point = s.axis_point;
   l.planes.push_back(p);
   return l;
+}
+
+/// Largest |Q - Q_exact| / Q_exact over the frames at that plane (Q_exact the frame window's
+/// mean flow).
+inline double worst_flow_error(const mri::PipeScan& scan, const mri::Flow4D& data) {
+  const auto planes = mri::measure_planes(data, test_pipe_landmarks(scan));
+  double worst = 0.0;
+  for (int k = 0; k < scan.frames; ++k) {
+    const double exact = mri::exact_frame_flow(scan, k);
+    worst = std::max(worst, std::abs(planes[0].flow[k] - exact) / exact);
+  }
+  return worst;
 }
 
 } // namespace tearflow::testing

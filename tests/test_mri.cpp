@@ -13,21 +13,6 @@
 using namespace tearflow;
 using namespace tearflow::testing;
 
-namespace {
-
-/// Largest |Q - Q_exact| / Q_exact over the frames (Q_exact the window mean).
-double worst_flow_error(const mri::PipeScan& scan, const mri::Flow4D& data) {
-  const auto planes = mri::measure_planes(data, test_pipe_landmarks(scan));
-  double worst = 0.0;
-  for (int k = 0; k < scan.frames; ++k) {
-    const double exact = mri::exact_frame_flow(scan, k);
-    worst = std::max(worst, std::abs(planes[0].flow[k] - exact) / exact);
-  }
-  return worst;
-}
-
-} // namespace
-
 TEST(MriSynthetic, FrameFlowIsTheWindowMeanOfTheExactFlow) {
   // The closed form (sinc per mode) against a fine midpoint rule of Q(t) over the window.
   const mri::PipeScan scan = test_pipe_scan();

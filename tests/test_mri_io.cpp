@@ -15,17 +15,6 @@ using namespace tearflow::testing;
 
 namespace {
 
-/// Largest |Q - Q_exact| / Q_exact over the frames.
-double worst_flow_error(const mri::PipeScan& scan, const mri::Flow4D& data) {
-  const auto planes = mri::measure_planes(data, test_pipe_landmarks(scan));
-  double worst = 0.0;
-  for (int k = 0; k < scan.frames; ++k) {
-    const double exact = mri::exact_frame_flow(scan, k);
-    worst = std::max(worst, std::abs(planes[0].flow[k] - exact) / exact);
-  }
-  return worst;
-}
-
 /// The expected substring in the InputError that `f` throws.
 template <typename F> void expect_input_error(F f, const std::string& part) {
   try {
