@@ -28,7 +28,8 @@ inline Result run_tearflow(const std::string& args, const std::string& launcher 
   return {WEXITSTATUS(status), out};
 }
 
-/// An empty directory path `<tmp>/tearflow-test-<name>` (removed if it existed).
+/// An empty directory path `<tmp>/tearflow-test-<name>` (removed if it existed). ctest runs
+/// tests in parallel (-j 2): every test needs names of its own.
 inline std::filesystem::path fresh_dir(const std::string& name) {
   const std::filesystem::path d =
       std::filesystem::temp_directory_path() / ("tearflow-test-" + name);

@@ -64,7 +64,7 @@ std::vector<int> newton_per_step(const std::string& output) {
 } // namespace
 
 TEST(OutletRun, RcrRestartMidCycleReproducesTheUninterruptedRun) {
-  const fs::path full = fresh_dir("full"), split = fresh_dir("split");
+  const fs::path full = fresh_dir("rcr-full"), split = fresh_dir("rcr-split");
   const Result a =
       run("run " + (data / "runs/small_pipe_rcr.yaml").string() + " -q -o " + full.string());
   ASSERT_EQ(a.code, 0) << a.output;
