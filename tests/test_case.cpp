@@ -126,6 +126,17 @@ TEST(LoadCase, DefaultsFillTheRest) {
   EXPECT_EQ(c.output.checkpoint_every, defaults.output.checkpoint_every);
 }
 
+TEST(LoadCase, PipeWithBoundaryLayers) {
+  const io::Case c = io::load_case(kCases / "pipe_layers.yaml");
+  ASSERT_TRUE(c.mesh.pipe.has_value());
+  const mesh::BoundaryLayers& bl = c.mesh.pipe->layers;
+  EXPECT_EQ(bl.count, 4);
+  EXPECT_DOUBLE_EQ(bl.first, 2.0e-4);
+  EXPECT_DOUBLE_EQ(bl.growth, 1.4);
+  EXPECT_EQ(bl.wall_layers, mesh::BoundaryLayers{}.wall_layers);
+  EXPECT_EQ(mesh::PipeSpec{}.layers.count, 0); // none unless asked for
+}
+
 TEST(LoadCase, InlineSamplesAndSimVascularFlow) {
   const io::Case c = io::load_case(kCases / "samples.yaml");
   ASSERT_EQ(c.boundary_conditions.size(), 3u);
@@ -246,6 +257,8 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
           "2 values for 3 times"},
   BadCase{"bad_mesh_both.yaml", 4, "mesh.pipe", "either mesh.file or mesh.pipe, not both"},
   BadCase{"bad_mesh_neither.yaml", 2, "mesh", "expected mesh.file"},
+  BadCase{"bad_pipe_layers.yaml", 4, "mesh.pipe.boundary_layers.growth",
+          "expected a number in [1.01, 3], got '5'"},
   BadCase{"bad_mesh_missing_file.yaml", 3, "mesh.file", "not found: "},
   BadCase{"bad_mesh_units.yaml", 4, "mesh.units",
           "unknown value 'inch'; expected one of m, cm or mm"},

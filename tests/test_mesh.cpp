@@ -188,6 +188,56 @@ TEST(MeshPipe, VolumeAndFaceAreas) {
   EXPECT_TRUE(std::all_of(used.begin(), used.end(), [](bool u) { return u; }));
 }
 
+// The pipe with boundary layers is an extruded polygonal section, so its volumes and the
+// interface's area are those of the n-gon prisms exactly (n = 4 quarter arcs of
+// ceil(pi a / (2 h)) segments each; rounding only), and the layer at the wall has the
+// requested thickness at the section's nodes, which lie on the spokes of the transfinite ring.
+TEST(MeshPipe, BoundaryLayersAtTheWall) {
+  PipeSpec spec{0.005, 0.02, 0.0015, 0.001};
+  spec.layers = {6, 1.5e-4, 1.5, 3};
+  const Mesh m = make_pipe(spec);
+  EXPECT_THAT(m.regions, ::testing::ElementsAre("fluid", "wall"));
+  EXPECT_THAT(face_names(m), ::testing::ElementsAre("inlet", "interface", "outer_wall", "outlet",
+                                                    "wall_inlet", "wall_outlet"));
+  const int n = 4 * static_cast<int>(std::ceil(0.5 * pi * spec.radius / spec.element_size));
+  auto polygon = [n](double r) { return 0.5 * n * r * r * std::sin(2 * pi / n); };
+  const double a = spec.radius, b = a + spec.wall_thickness, L = spec.length;
+  double volume[2] = {0.0, 0.0};
+  for (size_t e = 0; e < m.tets.size(); ++e) {
+    const Tet& t = m.tets[e];
+    volume[m.tet_region[e]] +=
+        signed_volume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]);
+  }
+  EXPECT_NEAR(volume[0], polygon(a) * L, 1e-9 * polygon(a) * L);
+  EXPECT_NEAR(volume[1], (polygon(b) - polygon(a)) * L, 1e-9 * polygon(b) * L);
+  const double perimeter = 2 * n * a * std::sin(pi / n);
+  EXPECT_NEAR(area(m, "interface"), perimeter * L, 1e-9 * perimeter * L);
+  // Thinnest gap between the wall and a lumen node inside it: the first layer.
+  std::vector<bool> in_wall(m.points.size(), false);
+  for (size_t e = 0; e < m.tets.size(); ++e)
+    for (Index v : m.tets[e])
+      if (m.tet_region[e] == 1)
+        in_wall[v] = true;
+  double gap = 1.0;
+  for (size_t v = 0; v < m.points.size(); ++v)
+    if (!in_wall[v])
+      gap = std::min(gap, a - std::hypot(m.points[v][0], m.points[v][1]));
+  EXPECT_NEAR(gap, spec.layers.first, 1e-6 * spec.layers.first);
+  // The interface's nodes are shared: each is a node of a lumen tet and of a wall tet.
+  std::vector<bool> in_fluid(m.points.size(), false);
+  for (size_t e = 0; e < m.tets.size(); ++e)
+    for (Index v : m.tets[e])
+      if (m.tet_region[e] == 0)
+        in_fluid[v] = true;
+  for (const Tri& t : m.face("interface").triangles)
+    for (Index v : t)
+      EXPECT_TRUE(in_fluid[v] && in_wall[v]);
+
+  PipeSpec thick = spec;
+  thick.layers = {12, 5e-4, 1.5, 3}; // a ring of 0.13 m in a 5 mm lumen
+  expect_input_error([&] { make_pipe(thick); }, {"boundary layers", "thinner than 0.7"});
+}
+
 TEST(MeshPipe, RejectsBadSpecs) {
   expect_input_error([] { make_pipe({-0.01, 0.1, 0.002}); }, {"radius (-0.01 m)", "positive"});
   expect_input_error([] { make_pipe({0.01, 0.0, 0.002}); }, {"length (0 m)", "positive"});

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 // --- mesh --------------------------------------------------------------------------------
 
 mesh::PipeSpec read_pipe(const YamlValue& v) {
-  v.check_keys({"radius", "length", "element_size", "wall_thickness"});
+  v.check_keys({"radius", "length", "element_size", "wall_thickness", "boundary_layers"});
   mesh::PipeSpec pipe;
   if (auto x = v.get("radius"))
     pipe.radius = x->positive();
@@ -35,6 +35,15 @@ mesh::PipeSpec read_pipe(const YamlValue& v) {
     pipe.element_size = x->positive();
   if (auto x = v.get("wall_thickness"))
     pipe.wall_thickness = x->non_negative();
+  if (auto bl = v.get("boundary_layers")) {
+    bl->check_keys({"count", "first", "growth", "wall_layers"});
+    pipe.layers.count = bl->require("count", "the number of layers (>= 1)").integer(1);
+    pipe.layers.first = bl->require("first", "the first layer's thickness in m").positive();
+    if (auto x = bl->get("growth"))
+      pipe.layers.growth = x->in_range(1.01, 3.0);
+    if (auto x = bl->get("wall_layers"))
+      pipe.layers.wall_layers = x->integer(1);
+  }
   return pipe;
 }
 

@@ -2,6 +2,7 @@
 #include "mesh/pipe_generator.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -98,10 +99,114 @@ void define_pipe_with_wall(const PipeSpec& s) {
     gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, tags), name);
 }
 
+// The pipe with boundary layers (PipeSpec::layers), in the built-in kernel: the cross-section
+// at z = 0 as an unstructured core disk of radius r_c, a ring [r_c, a] of structured layers
+// thinning towards the wall, and (with a wall) a structured annulus [a, b]; four quarter
+// patches each, so that the ring and the annulus are transfinite. Extruding the section along
+// z in layers of element_size extrudes its mesh too, so lumen and wall share the interface
+// nodes as in the uniform pipe.
+void define_layered_pipe(const PipeSpec& s) {
+  namespace geo = gmsh::model::geo;
+  const BoundaryLayers& bl = s.layers;
+  const double a = s.radius, b = a + s.wall_thickness;
+  const double ring = bl.first * (std::pow(bl.growth, bl.count) - 1.0) / (bl.growth - 1.0);
+  const double rc = a - ring;
+  if (!(bl.first > 0.0) || !(bl.growth >= 1.0 + 1e-9) || bl.wall_layers < 1 || !(rc > 0.3 * a))
+    input_error("pipe: boundary layers need first > 0 m, growth > 1, wall_layers >= 1 and a ring "
+                "({} layers from {} m at growth {}: {} m) thinner than 0.7 of the radius {} m",
+                bl.count, bl.first, bl.growth, ring, a);
+  const bool wall = s.wall_thickness > 0.0;
+  const int quarter =
+      std::max(2, static_cast<int>(std::ceil(0.5 * std::numbers::pi * a / s.element_size)));
+  const int centre = geo::addPoint(0, 0, 0);
+  std::vector<double> radii{rc, a};
+  if (wall)
+    radii.push_back(b);
+  // points[r][q]: radius r, angle q pi / 2; arcs[r][q] from q to q + 1; spokes[r][q] from
+  // radius r to r + 1 at angle q.
+  std::vector<std::array<int, 4>> points(radii.size()), arcs(radii.size()), spokes;
+  for (size_t r = 0; r < radii.size(); ++r)
+    for (int q = 0; q < 4; ++q)
+      points[r][q] = geo::addPoint(radii[r] * std::cos(0.5 * std::numbers::pi * q),
+                                   radii[r] * std::sin(0.5 * std::numbers::pi * q), 0);
+  for (size_t r = 0; r < radii.size(); ++r)
+    for (int q = 0; q < 4; ++q) {
+      arcs[r][q] = geo::addCircleArc(points[r][q], centre, points[r][(q + 1) % 4]);
+      geo::mesh::setTransfiniteCurve(arcs[r][q], quarter + 1);
+    }
+  for (size_t r = 0; r + 1 < radii.size(); ++r) {
+    auto& spoke = spokes.emplace_back();
+    for (int q = 0; q < 4; ++q) {
+      spoke[q] = geo::addLine(points[r][q], points[r + 1][q]);
+      // The ring's layers thin outwards by 1 / growth; the wall's are uniform.
+      if (r == 0)
+        geo::mesh::setTransfiniteCurve(spoke[q], bl.count + 1, "Progression", 1.0 / bl.growth);
+      else
+        geo::mesh::setTransfiniteCurve(spoke[q], bl.wall_layers + 1);
+    }
+  }
+  // Sections and, per lateral curve, the face its extrusion belongs to ("" = inside).
+  struct Section {
+    int surface;
+    bool lumen;
+    std::vector<std::string> lateral;
+  };
+  std::vector<Section> sections;
+  const int core_loop = geo::addCurveLoop({arcs[0][0], arcs[0][1], arcs[0][2], arcs[0][3]});
+  sections.push_back({geo::addPlaneSurface({core_loop}), true, {"", "", "", ""}});
+  for (size_t r = 0; r + 1 < radii.size(); ++r)
+    for (int q = 0; q < 4; ++q) {
+      const int loop =
+          geo::addCurveLoop({spokes[r][q], arcs[r + 1][q], -spokes[r][(q + 1) % 4], -arcs[r][q]});
+      const int patch = geo::addPlaneSurface({loop});
+      geo::mesh::setTransfiniteSurface(patch, "AlternateLeft");
+      const std::string outer = r == 0 ? (wall ? "interface" : "wall") : "outer_wall";
+      sections.push_back({patch, r == 0, {"", outer, "", r == 0 ? "" : "interface"}});
+    }
+  gmsh::vectorpair sources, out;
+  for (const Section& sec : sections)
+    sources.push_back({2, sec.surface});
+  const int layers_z = std::max(1, static_cast<int>(std::lround(s.length / s.element_size)));
+  geo::extrude(sources, 0, 0, s.length, out, {layers_z}, {}, false);
+  geo::synchronize();
+
+  // extrude's output per source surface: its top, its volume, then one surface per curve of
+  // its boundary loop, in the loop's order.
+  std::map<std::string, std::vector<int>> faces;
+  std::vector<int> lumen, annulus;
+  size_t at = 0;
+  for (const Section& sec : sections) {
+    if (at + 2 + sec.lateral.size() > out.size() || out[at].first != 2 || out[at + 1].first != 3)
+      input_error("pipe: unexpected output of the built-in kernel's extrusion");
+    faces[sec.lumen ? "inlet" : "wall_inlet"].push_back(sec.surface);
+    faces[sec.lumen ? "outlet" : "wall_outlet"].push_back(out[at].second);
+    (sec.lumen ? lumen : annulus).push_back(out[at + 1].second);
+    for (size_t j = 0; j < sec.lateral.size(); ++j)
+      if (!sec.lateral[j].empty())
+        faces[sec.lateral[j]].push_back(out[at + 2 + j].second);
+    at += 2 + sec.lateral.size();
+  }
+  for (auto& [name, tags] : faces) { // the ring and the annulus share the interface's surfaces
+    std::sort(tags.begin(), tags.end());
+    tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+  }
+  gmsh::model::setPhysicalName(3, gmsh::model::addPhysicalGroup(3, lumen), "fluid");
+  if (wall)
+    gmsh::model::setPhysicalName(3, gmsh::model::addPhysicalGroup(3, annulus), "wall");
+  for (const auto& [name, tags] : faces)
+    gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, tags), name);
+}
+
 // Builds and meshes the pipe in the current Gmsh model.
 void mesh_pipe_model(const PipeSpec& s) {
   gmsh::clear();
   gmsh::model::add("pipe");
+  if (s.layers.count > 0) {
+    define_layered_pipe(s);
+    set_mesh_options(s);
+    gmsh::model::mesh::generate(3);
+    return;
+  }
   if (s.wall_thickness > 0.0) {
     define_pipe_with_wall(s);
     set_mesh_options(s);
