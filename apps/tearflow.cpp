@@ -11,6 +11,7 @@
 // line win over the case file's.
 #include <cstdio>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -70,6 +71,27 @@ int run_command(const std::string& case_file, bool restart, const std::string& o
   return 0;
 }
 
+/// While alive, what the process writes to stdout goes to stderr: the progress lines that
+/// a verification case's runs print (a run's own output is stdout), so that stdout carries
+/// the case's JSON alone.
+class StdoutToStderr {
+public:
+  StdoutToStderr() : saved_(dup(STDOUT_FILENO)) {
+    std::fflush(stdout);
+    dup2(STDERR_FILENO, STDOUT_FILENO);
+  }
+  ~StdoutToStderr() {
+    std::fflush(stdout);
+    dup2(saved_, STDOUT_FILENO);
+    close(saved_);
+  }
+  StdoutToStderr(const StdoutToStderr&) = delete;
+  StdoutToStderr& operator=(const StdoutToStderr&) = delete;
+
+private:
+  int saved_;
+};
+
 int verify_command(const std::string& name, bool list, bool convergence, double coarsening,
                    bool progress, const std::string& output) {
   const auto& cases = verify::verification_cases();
@@ -87,7 +109,10 @@ int verify_command(const std::string& name, bool list, bool convergence, double 
       known += " " + n;
     input_error("no verification case '{}'; known:{}", name, known);
   }
-  const verify::VerificationResult r = it->second.run({convergence, progress, coarsening, output});
+  const verify::VerificationResult r = [&] {
+    const StdoutToStderr redirect;
+    return it->second.run({convergence, progress, coarsening, output});
+  }();
   if (root)
     fmt::print("{}\n", r.to_json().dump(2));
   return r.passed() ? 0 : 1;

@@ -1,6 +1,7 @@
 // `tearflow tune` end to end on the small pipe (one RCR outlet, one 3D run of two cycles of
 // 20 steps): the tuned case and the target / achieved / error table are written and
 // consistent; targets no Windkessel can meet stop before any fit or run.
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -96,4 +97,20 @@ TEST(CliTune, TargetsNoWindkesselCanMeetStopBeforeAnyRun) {
     EXPECT_THAT(r.output, Not(HasSubstr("tune 3D"))) << file; // no run
     EXPECT_FALSE(fs::exists(dir / "tuned.yaml")) << file;
   }
+}
+
+// `verify --progress` prints progress on stderr and the case's JSON alone on stdout, also
+// for the tuning case, whose 3D runs print their step lines where a run's output goes.
+TEST(CliVerify, ProgressOnStderrJsonAloneOnStdout) {
+  const fs::path dir = fresh_dir("verify-progress");
+  fs::create_directories(dir);
+  const fs::path out = dir / "stdout.json", err = dir / "stderr.txt";
+  const std::string cmd = std::string(TEARFLOW_BINARY) +
+                          " verify tuning --coarsen 2 --progress > " + out.string() + " 2> " +
+                          err.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << read(err);
+  const nlohmann::json j = nlohmann::json::parse(read(out)); // throws on stray lines
+  EXPECT_EQ(j.at("case"), "tuning");
+  EXPECT_THAT(read(err), HasSubstr("step "));
+  EXPECT_THAT(read(out), Not(HasSubstr("step ")));
 }
