@@ -67,14 +67,15 @@
 // h / a, an O(h) error. sqrt(k a / (2 rho u_r/p)) = 4.53 m/s at 1.5 mm reproduces the
 // measured 4.50. It falls with h, while the wall, one element through its thickness at 1.5
 // mm, softens with h; the two nearly cancel between 1.05 and 0.735 mm, which made the speed
-// look converged. A pipe with boundary layers (mesh::PipeSpec::layers: six layers from 0.15
-// mm, three through the wall; 54.8 k tets at 1.5 mm) brings k to 0.985 and the speed of the
+// look converged. A pipe with boundary layers (mesh::PipeSpec::layers: six layers from 0.1 h,
+// three through the wall; 54.8 k tets at 1.5 mm) brings k to 0.985 and the speed of the
 // peak, of the half-peak crossing and of the steepest rise to 4.51-4.69 m/s (uniform mesh:
-// 4.05-4.31) but the centroid only to 4.58 m/s: the 3D tube also carries a precursor
-// (20 % of the peak at 2.5 cm, 3 ms ahead, through the wall's axial waves at sqrt(E / rho_s)
-// = 16 m/s and the incompressible fluid) and a negative tail that the membrane model has
-// not. Its cost (8.7x the CPU at 1.5 mm, about 2.5 h for the refined level) keeps it out of
-// this case's default; docs/performance.md, "Pressure pulse: where the gap is".
+// 4.05-4.31) but the centroid only to 4.58 m/s, 4.63 at (1.05 mm, 17.5 us): the 3D tube
+// also carries a precursor (20 % of the peak at 2.5 cm, 3 ms ahead, through the wall's
+// axial waves at sqrt(E / rho_s) = 16 m/s and the incompressible fluid) and a negative tail
+// that the membrane model has not. Its cost (8.7x the CPU at 1.5 mm, 28 min on 2 ranks for
+// the refined level) keeps it out of this case's default; docs/performance.md, "Pressure
+// pulse: where the gap is".
 //
 // With -o DIR the run writes the pressure along the axis over time, DIR/pulse_axis_*.csv
 // (cross-section mean pressure every 2.5 mm at every step), so the pulse visibly travels.
