@@ -197,22 +197,8 @@ void define_layered_pipe(const PipeSpec& s) {
     gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, tags), name);
 }
 
-// Builds and meshes the pipe in the current Gmsh model.
-void mesh_pipe_model(const PipeSpec& s) {
-  gmsh::clear();
-  gmsh::model::add("pipe");
-  if (s.layers.count > 0) {
-    define_layered_pipe(s);
-    set_mesh_options(s);
-    gmsh::model::mesh::generate(3);
-    return;
-  }
-  if (s.wall_thickness > 0.0) {
-    define_pipe_with_wall(s);
-    set_mesh_options(s);
-    gmsh::model::mesh::generate(3);
-    return;
-  }
+// The lumen alone: one OpenCASCADE cylinder.
+void define_pipe(const PipeSpec& s) {
   const int volume = gmsh::model::occ::addCylinder(0, 0, 0, 0, 0, s.length, s.radius);
   gmsh::model::occ::synchronize();
 
@@ -239,6 +225,18 @@ void mesh_pipe_model(const PipeSpec& s) {
   gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, inlet), "inlet");
   gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, outlet), "outlet");
   gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, wall), "wall");
+}
+
+// Builds and meshes the pipe in the current Gmsh model.
+void mesh_pipe_model(const PipeSpec& s) {
+  gmsh::clear();
+  gmsh::model::add("pipe");
+  if (s.layers.count > 0)
+    define_layered_pipe(s);
+  else if (s.wall_thickness > 0.0)
+    define_pipe_with_wall(s);
+  else
+    define_pipe(s);
   set_mesh_options(s);
   gmsh::model::mesh::generate(3);
 }
