@@ -22,60 +22,52 @@
 // (peak, front, steepest rise) travels at a speed between c(k) and c0 that depends on the
 // distance.
 //
-// Measurement: the time centroid of the pressure pulse at stations z = 1.25 ... 2.5 cm (every
-// 2.5 mm), t_c(z) = int t p dt / int p dt, and a least-squares line z(t_c). For a linear
-// system p(z, w) = exp(-i k(w) z) p(0, w), so t_c(z) = t_c(0) + z dk/dw(0) = t_c(0) + z / c0
-// whatever the dispersion and the damping at higher frequencies: the centroid travels at the
-// long-wave speed, the quantity the estimates predict. The integral runs to the time the
-// reflection from the open outlet can first reach the station's slab, (2 L - z_top) / c0, or
-// to the end of the run, and the stations end at 2.5 cm so that the pulse has passed by then
-// (h 1.5 mm: at 2.5 cm the pressure there is 2 % of the peak, and cutting 0.5 ms earlier
-// moves that centroid by 0.02 ms, 0.8 % of the 2.5 ms between the first and last station;
-// those up to 2 cm move by under 0.005 ms). The pressure at a station is the mean of the
-// cross-section means at z - 2.5 mm, z, z + 2.5 mm (fluid nodes within 0.6 h of each): a
-// single section's mean wanders by +-0.1 ms in t_c with the nodes it happens to hold. The first
-// station is 2.5 radii from the clamped inlet ring. Reported beside it, from the same station
-// signals: the crossing of P0 / 2 (a fixed threshold; the dispersed peak falls below it beyond
-// about 2 cm), of half the station's own peak, the time of the largest dp/dt and of the peak.
+// Measurement (verification.md: "from the arrival time of the pressure peak at several
+// stations"): the peak's time at stations z = 1.25 ... 2.5 cm (every 2.5 mm), refined by a
+// parabola through its samples, and a least-squares line z(t) with its standard error. The
+// pressure at a station is the mean of the cross-section means at z - 2.5 mm, z, z + 2.5 mm
+// (fluid nodes within 0.6 h of each): a single section's mean wanders with the nodes it
+// happens to hold. The signals are cut where the reflection from the open outlet can first
+// reach the station's slab, (2 L - z_top) / c0. The first station is 2.5 radii from the
+// clamped inlet ring. Reported beside it from the same signals: the time centroid int t p dt
+// / int p dt (for a linear system it travels at dk/dw(0), the long-wave speed, whatever the
+// dispersion), the crossings of P0 / 2 and of half the station's own peak, the largest dp/dt.
 //
-// Acceptance (issue 10), checked by --convergence: the speed within 10 % of the thick-wall
-// estimate c0 at both levels (h, dt and h, dt x 0.7), and its error not larger on the finer
-// level (tolerance 0: the issue's "does not get worse"; the truncation effect above, 0.8 %,
-// is systematic and nearly the same at both levels, so it does not blur the difference).
-// Without --convergence only the 10 % of the one level is checked.
+// The reference each is compared with (pulse_continuum.hpp): the same pulse, stations,
+// averages and cut on the linear continuum of the tube, with Womersley's viscous wall layer
+// and the dispersion above, no mesh. Its peak speed is 4.58 m/s for the axially free wall's
+// long-wave 5.07 and 4.68 for the plane-strain 5.25: a pulse three radii long disperses, and
+// its peak travels 10-11 % below the long-wave speed. 4.58 is 12.8 % below 5.25, so the
+// issue's 10 % by the peak is out of reach of an exact solver of this tube too. The
+// continuum's centroid travels at 4.95-4.96 / 5.07-5.08 m/s.
 //
-// What the continuum itself gives for this measurement (bench/pulse_continuum.py): a linear
-// model of the tube (the inlet pulse's spectrum carried with Womersley's viscous wavenumber
-// and the inertia dispersion above, the same stations, section averages and cut; no mesh, no
-// reflection) gives a centroid speed of 5.05 m/s for c0 = 5.25 (wall held axially) and 4.97
-// m/s for the axially free wall's 5.07; without viscosity and dispersion it returns c0
-// exactly. So viscosity, dispersion and the cut slow the measured centroid by 4-5 % of c0
-// before any discretization error (docs/performance.md, "Pressure pulse after the LSIC fix").
+// The mesh. A uniform P1 mesh makes the fluid too heavy: the strongly imposed no-slip robs
+// the first element layer at the wall of about half its flow (its velocity ramps from 0 to
+// the core's, where the continuum's Stokes layer is 0.08 mm thick), an inertance ratio k ~ 1
+// - 0.6 h / a (0.82 at 1.5 mm, measured below and in a rigid tube) and a wave sqrt(k) slower:
+// the peak travelled at 4.10 m/s at 1.5 mm, 10 % below the continuum's. The pipe therefore
+// has boundary layers (mesh::PipeSpec::layers: six from 0.1 h growing by 1.5, three through
+// the wall; 54.8 k tets at 1.5 mm against 11.7 k), k = 0.985.
 //
-// Status (issue 10): the centroid speed is 4.50 m/s at h 1.5 mm (dt 35, 25, 17.5 us alike),
-// 4.56 at (1.05 mm, 17.5 us), 4.57 at (0.735 mm, 25 us): the error falls under refinement
-// (14.3, 13.2, 13.0 %) but stays above 10 %, so --convergence fails on the 10 % bound.
+// The wall: clamped at its end rings and free axially between them, as the reference's.
+// Its measured dynamic compliance u_r / p is the axially free Lame tube's within 3-7 %, so
+// the continuum it is compared with takes 5.07 m/s; the plane-strain 5.25 assumes a wall held
+// axially. Holding the wall's two surfaces axially (u_z = 0) does not make the 3D tube that
+// of the estimate: it adds (most likely) shear stiffness against the axial variation of u_r, and
+// the peak then travels at 5.33 / 5.46 m/s (uniform 1.5 / 1.05 mm), 5.91 with boundary layers
+// (docs/performance.md, "Pressure pulse against its continuum").
 //
-// Where the gap is: the run splits c^2 = k A / (rho dA/dp) into its two factors (WaveBalance
-// below). The wall's dynamic distensibility is close to the axially free Lame tube's (u_r / p
-// 1.00e-7 m/Pa at 1.5 mm, 1.03e-7 at 1.05 mm; Lame 0.974e-7 free, 0.906e-7 plane strain), but
-// the fluid is heavier than it should be: k = 0.82 at 1.5 mm and 0.90 at 1.05 mm, where the
-// continuum's inviscid core has k = 1. The same k comes out of a rigid tube (E x 1e4, a
-// pressure step over 5 cm: rho L dQ/dt = k A dp with k 0.817 at 1.5 mm, 0.871 at 1.0 mm) and
-// with the viscosity cut 300-fold: it is the no-slip wall's first element layer, whose P1
-// velocity ramps from 0 to the core's and so carries half the flow it should, 1 - k ~ 0.6
-// h / a, an O(h) error. sqrt(k a / (2 rho u_r/p)) = 4.53 m/s at 1.5 mm reproduces the
-// measured 4.50. It falls with h, while the wall, one element through its thickness at 1.5
-// mm, softens with h; the two nearly cancel between 1.05 and 0.735 mm, which made the speed
-// look converged. A pipe with boundary layers (mesh::PipeSpec::layers: six layers from 0.1 h,
-// three through the wall; 54.8 k tets at 1.5 mm) brings k to 0.985 and the speed of the
-// peak, of the half-peak crossing and of the steepest rise to 4.51-4.69 m/s (uniform mesh:
-// 4.05-4.31) but the centroid only to 4.58 m/s, 4.63 at (1.05 mm, 17.5 us): the 3D tube
-// also carries a precursor (20 % of the peak at 2.5 cm, 3 ms ahead, through the wall's
-// axial waves at sqrt(E / rho_s) = 16 m/s and the incompressible fluid) and a negative tail
-// that the membrane model has not. Its cost (8.7x the CPU at 1.5 mm, 28 min on 2 ranks for
-// the refined level) keeps it out of this case's default; docs/performance.md, "Pressure
-// pulse: where the gap is".
+// Acceptance (issue 10), checked: the peak's speed within 10 % of the thick-wall estimate
+// (fails: see above) and within 5 % of the continuum's peak speed; with --convergence the
+// same at h, dt x 0.7, and the error against the estimate not larger on the finer level
+// beyond twice the two fits' combined standard error.
+//
+// Where the 3D tube differs from the continuum: the wall's axial waves (sqrt(E / rho_s) = 16
+// m/s) carry a precursor, 20 % of the peak 3 ms ahead at 2.5 cm, and a negative tail, which
+// move the centroid 7-8 % and the half-peak crossing 4 % below the continuum's; the front
+// (P0 / 2, steepest rise) and the peak stay within 3 % of it (docs/performance.md). The run also
+// splits the long-wave speed c^2 = k A / (rho dA/dp) into its measured factors (WaveBalance
+// below).
 //
 // With -o DIR the run writes the pressure along the axis over time, DIR/pulse_axis_*.csv
 // (cross-section mean pressure every 2.5 mm at every step), so the pulse visibly travels.
@@ -90,6 +82,7 @@
 #include "fem/petsc.hpp"
 #include "verify/cases.hpp"
 #include "verify/fsi_tube.hpp"
+#include "verify/pulse_continuum.hpp"
 
 namespace tearflow::verify {
 
@@ -107,13 +100,16 @@ double smoothstep(double s) {
 }
 
 /// Inlet traction [Pa]: rises over [0, t_edge], falls over [t_pulse, t_pulse + t_edge].
+double inlet_pressure(double t) {
+  return P0 * smoothstep(t / t_edge) * (1.0 - smoothstep((t - t_pulse) / t_edge));
+}
+
 bc::Waveform inlet_pulse() {
   std::vector<double> t, v;
   const int n = 600;
   for (int i = 0; i <= n; ++i) {
-    const double ti = t_end * i / n;
-    t.push_back(ti);
-    v.push_back(P0 * smoothstep(ti / t_edge) * (1.0 - smoothstep((ti - t_pulse) / t_edge)));
+    t.push_back(t_end * i / n);
+    v.push_back(inlet_pressure(t.back()));
   }
   return bc::Waveform::periodic(t, v, 4.0 * t_end, "pulse inlet traction");
 }
@@ -134,11 +130,11 @@ double short_wave_speed(double c0, double k) {
 
 /// The arrival-time variants at one station [s]; NaN where a variant is undefined.
 struct Arrival {
-  double centroid = 0.0;  ///< int t p dt / int p dt up to the reflection (primary)
+  double centroid = 0.0;  ///< int t p dt / int p dt up to the reflection
   double threshold = 0.0; ///< crossing of P0 / 2
   double own_peak = 0.0;  ///< crossing of half the station's peak
   double max_slope = 0.0; ///< largest dp/dt
-  double peak = 0.0;      ///< the peak
+  double peak = 0.0;      ///< the peak (primary: verification.md's measurement)
   double peak_pressure = 0.0, pulse_integral = 0.0; ///< [Pa], int p dt [Pa s]
 };
 
@@ -170,6 +166,11 @@ Arrival arrival(const std::vector<double>& t, const std::vector<double>& p, doub
   const auto peak = static_cast<size_t>(std::max_element(pw.begin(), pw.end()) - pw.begin());
   r.peak = tw[peak];
   r.peak_pressure = pw[peak];
+  if (peak >= 1 && peak + 1 < n) { // the parabola through the peak and its neighbours
+    const double curv = pw[peak - 1] - 2.0 * pw[peak] + pw[peak + 1];
+    if (curv < 0.0)
+      r.peak += 0.5 * (pw[peak - 1] - pw[peak + 1]) / curv * dt;
+  }
   r.own_peak = crossing(tw, pw, 0.5 * r.peak_pressure);
   // Largest dp/dt: differences at the step midpoints, refined by a parabola.
   size_t best = 1;
@@ -186,19 +187,30 @@ Arrival arrival(const std::vector<double>& t, const std::vector<double>& p, doub
   return r;
 }
 
-/// Least-squares slope dz/dt [m/s] of the stations against their arrival times.
-double speed(const std::vector<double>& t) {
+/// A speed fitted to the stations' arrival times.
+struct Speed {
+  double value = 0.0;          ///< least-squares slope dz/dt [m/s]
+  double standard_error = 0.0; ///< of the slope, from the stations' scatter about the line [m/s]
+};
+
+Speed speed(const std::vector<double>& t) {
+  const auto n = static_cast<double>(t.size());
   double tm = 0.0, zm = 0.0;
   for (size_t i = 0; i < t.size(); ++i) {
-    tm += t[i] / static_cast<double>(t.size());
-    zm += kStations[i] / static_cast<double>(t.size());
+    tm += t[i] / n;
+    zm += kStations[i] / n;
   }
   double num = 0.0, den = 0.0;
   for (size_t i = 0; i < t.size(); ++i) {
     num += (t[i] - tm) * (kStations[i] - zm);
     den += (t[i] - tm) * (t[i] - tm);
   }
-  return num / den;
+  Speed s{num / den, 0.0};
+  double scatter = 0.0;
+  for (size_t i = 0; i < t.size(); ++i)
+    scatter += std::pow(kStations[i] - zm - s.value * (t[i] - tm), 2);
+  s.standard_error = std::sqrt(scatter / (n - 2.0) / den);
+  return s;
 }
 
 /// The two factors of the long-wave speed c^2 = k A / (rho dA/dp), measured on the run's
@@ -250,19 +262,85 @@ WaveBalance wave_balance(const std::vector<double>& t, const std::vector<std::ve
   return b;
 }
 
+/// The speeds of the five arrival variants, fitted over the stations.
+struct Speeds {
+  Speed centroid, threshold, own_peak, max_slope, peak;
+};
+
+/// Arrivals at the stations from the axis series p[k][i] (axis point k at z = k
+/// axis_spacing, sample i at t[i]): each station's signal is the mean of the axis points at
+/// z - 2.5 mm, z, z + 2.5 mm, integrated until the outlet's reflection (at speed c0) can
+/// reach the farthest node of the three sections (slab: their half width).
+std::vector<Arrival> station_arrivals(const std::vector<double>& t,
+                                      const std::vector<std::vector<double>>& p, double slab,
+                                      double c0) {
+  std::vector<Arrival> arrivals;
+  for (double z : kStations) {
+    const auto k = static_cast<size_t>(std::lround(z / axis_spacing));
+    std::vector<double> station(t.size());
+    for (size_t i = 0; i < t.size(); ++i)
+      station[i] = (p[k - 1][i] + p[k][i] + p[k + 1][i]) / 3.0;
+    const double top = z + axis_spacing + slab;
+    arrivals.push_back(arrival(t, station, (2.0 * L - top) / c0));
+  }
+  return arrivals;
+}
+
+Speeds fit_speeds(const std::vector<Arrival>& arrivals) {
+  auto fit = [&](double Arrival::*variant) {
+    std::vector<double> times;
+    for (const Arrival& s : arrivals)
+      times.push_back(s.*variant);
+    return speed(times);
+  };
+  return {fit(&Arrival::centroid), fit(&Arrival::threshold), fit(&Arrival::own_peak),
+          fit(&Arrival::max_slope), fit(&Arrival::peak)};
+}
+
+/// The same measurement on the linear continuum (pulse_continuum.hpp) of long-wave speed
+/// c_long, sampled at the run's times t; c_cut: the speed the run's cut assumed.
+Speeds continuum_speeds(double c_long, const std::vector<double>& t, double slab, double c_cut) {
+  const PulseContinuum tube({a, h, rho_f, mu, rho_s, c_long}, inlet_pressure, t_end);
+  std::vector<std::vector<double>> p(static_cast<size_t>(std::lround(L / axis_spacing)) + 1);
+  for (double z : kStations)
+    for (int d : {-1, 0, 1}) {
+      const auto k = static_cast<size_t>(std::lround(z / axis_spacing) + d);
+      if (p[k].empty())
+        p[k] = tube.pressure(static_cast<double>(k) * axis_spacing, t);
+    }
+  return fit_speeds(station_arrivals(t, p, slab, c_cut));
+}
+
+nlohmann::json to_json(const Speeds& s) {
+  nlohmann::json j;
+  for (auto [name, v] : {std::pair{"peak", s.peak},
+                         {"centroid", s.centroid},
+                         {"threshold", s.threshold},
+                         {"half_own_peak", s.own_peak},
+                         {"max_dpdt", s.max_slope}})
+    j[fmt::format("speed_{}_m_per_s", name)] = v.value;
+  j["speed_peak_standard_error_m_per_s"] = s.peak.standard_error;
+  return j;
+}
+
 struct PulseRun {
   std::vector<Arrival> arrivals;
-  double speed_centroid = 0.0, speed_threshold = 0.0, speed_own_peak = 0.0;
-  double speed_max_slope = 0.0, speed_peak = 0.0;
+  Speeds speeds;
+  Speeds continuum;      ///< the continuum's, for the axially free wall's long-wave speed
+  Speeds continuum_held; ///< the same for the wall held axially (plane strain, c0)
   WaveBalance balance;
   int tets = 0, steps = 0, newton_max = 0, newton_total = 0, linear_total = 0;
   double element_size = 0.0, dt = 0.0, seconds = 0.0;
   std::string axis_csv;
 };
 
-PulseRun run_pulse(double element_size, double dt, double c0, const VerifyOptions& options) {
+PulseRun run_pulse(double element_size, double dt, double c0, double c_open,
+                   const VerifyOptions& options) {
   FsiTubeSpec spec;
   spec.pipe = {a, L, element_size, h};
+  // Boundary layers (see the file comment): six layers from 0.1 h growing by 1.5 to the
+  // core, three through the wall.
+  spec.pipe.layers = {6, 0.1 * element_size, 1.5, 3};
   spec.fluid = {rho_f, mu};
   spec.wall =
       physics::SolidMaterial::from_young_poisson(physics::SolidModel::NeoHookean, E, nu, rho_s);
@@ -314,36 +392,20 @@ PulseRun run_pulse(double element_size, double dt, double c0, const VerifyOption
         csv << fmt::format("{:.7e},{:.5f},{:.6e},{:.6e}\n", tube.time(), z, p[k].back(),
                            ur[k].back());
     }
-    if (options.progress)
+    if (options.progress && fem::mpi_rank() == 0)
       fmt::print(stderr,
                  "pulse: t = {:.5f} s p(1.5, 2.5, 3.5 cm) = {:.1f} {:.1f} {:.1f} Pa "
                  "Newton {} KSP {}\n",
                  tube.time(), p[6].back(), p[10].back(), p[14].back(), r.newton_iterations,
                  r.linear_iterations);
   }
-  std::array<std::vector<double>, 5> times; // per variant, per station
-  for (double z : kStations) {
-    const auto k = static_cast<size_t>(std::lround(z / axis_spacing));
-    std::vector<double> station(t.size());
-    for (size_t i = 0; i < t.size(); ++i)
-      station[i] = (p[k - 1][i] + p[k][i] + p[k + 1][i]) / 3.0;
-    const double top = z + axis_spacing + slab; // the station's farthest node
-    const Arrival& s = run.arrivals.emplace_back(arrival(t, station, (2.0 * L - top) / c0));
-    for (auto [i, v] : {std::pair{0, s.centroid},
-                        {1, s.threshold},
-                        {2, s.own_peak},
-                        {3, s.max_slope},
-                        {4, s.peak}})
-      times[i].push_back(v);
-  }
+  run.arrivals = station_arrivals(t, p, slab, c0);
+  run.speeds = fit_speeds(run.arrivals);
   // Until the front (at the estimate's speed, faster than the discrete wave) is 5 mm from
   // the outlet: Q(L) = 0 holds that long.
   run.balance = wave_balance(t, p, ur, (L - 0.005) / c0);
-  run.speed_centroid = speed(times[0]);
-  run.speed_threshold = speed(times[1]);
-  run.speed_own_peak = speed(times[2]);
-  run.speed_max_slope = speed(times[3]);
-  run.speed_peak = speed(times[4]);
+  run.continuum = continuum_speeds(c_open, t, slab, c0);
+  run.continuum_held = continuum_speeds(c0, t, slab, c0);
   run.seconds = MPI_Wtime() - start;
   return run;
 }
@@ -369,15 +431,13 @@ nlohmann::json to_json(const PulseRun& r) {
                       {"newton_per_step", double(r.newton_total) / r.steps},
                       {"krylov_per_step", double(r.linear_total) / r.steps},
                       {"stations", stations},
-                      {"speed_centroid_m_per_s", r.speed_centroid},
-                      {"speed_threshold_m_per_s", r.speed_threshold},
-                      {"speed_half_own_peak_m_per_s", r.speed_own_peak},
-                      {"speed_max_dpdt_m_per_s", r.speed_max_slope},
-                      {"speed_peak_m_per_s", r.speed_peak},
+                      {"continuum_axially_free_wall", to_json(r.continuum)},
+                      {"continuum_wall_held_axially", to_json(r.continuum_held)},
                       {"wall_radial_compliance_m_per_Pa", r.balance.radial_compliance},
                       {"inertance_ratio", r.balance.inertance_ratio},
                       {"speed_from_compliance_and_inertance_m_per_s", r.balance.speed},
                       {"seconds", r.seconds}};
+  j.update(to_json(r.speeds));
   if (!r.axis_csv.empty())
     j["axis_series_csv"] = r.axis_csv;
   return j;
@@ -396,14 +456,30 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
   const double k_pulse = std::numbers::pi / (c_thick * t_pulse);
   // h 1 mm and dt 16.7 us by default; --coarsen 1.5: h 1.5 mm, dt 25 us.
   const double size = 1e-3 * options.coarsening, dt = 2.5e-5 * options.coarsening / 1.5;
-  const PulseRun coarse = run_pulse(size, dt, c_thick, options);
-  const double error = std::abs(coarse.speed_centroid - c_thick) / c_thick;
+  const PulseRun coarse = run_pulse(size, dt, c_thick, c_open, options);
+  // The issue's measure: the peak's speed against the thick-wall estimate; and against the
+  // continuum's peak speed for the same pulse, stations and cut, the wall free axially as
+  // the reference's is between its clamped ends. Tolerance 5 %: the continuum model leaves
+  // out the 3D wall's axial dynamics, which move the centroid 7-8 % and the half-peak
+  // crossing 4 % from the model's and the front and the peak under 3 % (h 1.5 and 1.05 mm);
+  // the peak fits' own standard error is 1.2-1.5 %, the continuum's too (the peak's speed
+  // varies along the tube as it disperses); the no-slip layer's inertance error on a mesh
+  // without boundary layers costs the peak 10 %, which the tolerance must catch.
+  auto estimate_error = [&](const PulseRun& r) {
+    return std::abs(r.speeds.peak.value - c_thick) / c_thick;
+  };
+  auto continuum_error = [](const PulseRun& r) {
+    return std::abs(r.speeds.peak.value - r.continuum.peak.value) / r.continuum.peak.value;
+  };
 
   VerificationResult res;
   res.name = "pulse";
-  res.metrics.push_back({"wave_speed_relative_error", error, 0.10,
-                         "|c (pulse time centroids, z = 1.25-2.5 cm) - thick-wall Lame estimate| "
-                         "/ estimate; 10 % (issue 10)"});
+  res.metrics.push_back({"wave_speed_relative_error", estimate_error(coarse), 0.10,
+                         "|c (arrival of the pressure peak, z = 1.25-2.5 cm) - thick-wall Lame "
+                         "estimate| / estimate; 10 % (issue 10)"});
+  res.metrics.push_back({"wave_speed_vs_continuum", continuum_error(coarse), 0.05,
+                         "|c (peak) - the linear continuum's c (peak), same pulse, stations and "
+                         "cut, wall free axially| / continuum's; 5 % (the model's 3D omissions)"});
   res.details = {{"thick_wall_estimate_m_per_s", c_thick},
                  {"thick_wall_open_ended_m_per_s", c_open},
                  {"moens_korteweg_thin_wall_m_per_s", c_mk},
@@ -413,14 +489,21 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
                  {"stations_m", kStations},
                  {"runs", nlohmann::json::array({to_json(coarse)})}};
   if (options.convergence) {
-    const PulseRun fine = run_pulse(0.7 * size, 0.7 * dt, c_thick, options);
+    const PulseRun fine = run_pulse(0.7 * size, 0.7 * dt, c_thick, c_open, options);
     res.details["runs"].push_back(to_json(fine));
-    const double fine_error = std::abs(fine.speed_centroid - c_thick) / c_thick;
-    res.metrics.push_back({"wave_speed_relative_error_refined", fine_error, 0.10,
+    res.metrics.push_back({"wave_speed_relative_error_refined", estimate_error(fine), 0.10,
                            "the same at h, dt x 0.7; 10 % (issue 10)"});
-    // Refinement must not move the speed away from the estimate (see the file comment).
-    res.metrics.push_back({"refinement_error_growth", fine_error - error, 0.0,
-                           "error at h, dt x 0.7 minus error at h, dt; <= 0 (must not grow)"});
+    res.metrics.push_back({"wave_speed_vs_continuum_refined", continuum_error(fine), 0.05,
+                           "the same at h, dt x 0.7; 5 %"});
+    // Refinement must not move the speed away from the estimate beyond what the two fits can
+    // tell apart: twice their combined standard error.
+    const double resolution =
+        2.0 * std::hypot(coarse.speeds.peak.standard_error, fine.speeds.peak.standard_error) /
+        c_thick;
+    res.metrics.push_back({"refinement_error_growth", estimate_error(fine) - estimate_error(coarse),
+                           resolution,
+                           "error at h, dt x 0.7 minus error at h, dt; at most twice the fits' "
+                           "combined standard error (must not grow)"});
   }
   return res;
 }
