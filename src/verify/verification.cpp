@@ -67,7 +67,8 @@ const std::map<std::string, VerificationCase>& verification_cases() {
        {"compliant tube (FSI) under a slowly rising pressure: radius against thick-wall Lame",
         verify_inflation}},
       {"pulse",
-       {"pressure pulse in a compliant tube (FSI): wave speed against the thick-wall estimate",
+       {"pressure pulse in a compliant tube (FSI): wave speed against the thick-wall estimate and "
+        "the tube's linear continuum",
         verify_pulse}},
   };
   return cases;
