@@ -51,9 +51,9 @@ std::optional<cplx> wavenumber(const ContinuumTube& tube, double w) {
 
 PulseContinuum::PulseContinuum(const ContinuumTube& tube,
                                const std::function<double(double)>& inlet, double duration) {
-  // The transform's window: 8x the 15 ms run, so the pulse's periodic copies lie far outside
-  // it; 4096 samples (34 kHz); frequencies up to 4 kHz, where the smoothed pulse's spectrum
-  // is ~1e-6 of its peak.
+  // The transform's window: 8x the evaluated duration, so the pulse's periodic copies lie far
+  // outside it; 4096 samples (34 kHz for the 15 ms of `verify pulse`); frequencies up to
+  // 4 kHz, where the smoothed 3 ms pulse's spectrum is ~1e-6 of its peak.
   period_ = 8.0 * duration;
   const int samples = 4096;
   const double dts = period_ / samples, f_max = 4000.0;
