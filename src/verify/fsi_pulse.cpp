@@ -119,13 +119,9 @@ double long_wave_speed(double D) {
   return 1.0 / std::sqrt(rho_f * D);
 }
 
-/// Speed [m/s] of a wave of wavenumber k [1/m] in the thick tube: the long-wave speed c0
-/// lowered by the fluid's radial inertia and the wall's inertia (see the file comment).
-double short_wave_speed(double c0, double k) {
-  const double ka = k * a;
-  const double fluid = 0.5 * ka * std::cyl_bessel_i(0.0, ka) / std::cyl_bessel_i(1.0, ka);
-  const double wall = rho_s * h * a * k * k / (2.0 * rho_f);
-  return c0 / std::sqrt(fluid + wall);
+/// The tube for the continuum model (pulse_continuum.hpp) with long-wave speed c0 [m/s].
+ContinuumTube continuum_tube(double c0) {
+  return {a, h, rho_f, mu, rho_s, c0};
 }
 
 /// The arrival-time variants at one station [s]; NaN where a variant is undefined.
@@ -137,6 +133,13 @@ struct Arrival {
   double peak = 0.0;      ///< the peak (primary: verification.md's measurement)
   double peak_pressure = 0.0, pulse_integral = 0.0; ///< [Pa], int p dt [Pa s]
 };
+
+/// Offset, in samples, of the vertex of the parabola through (-1, ym), (0, y0), (1, yp) from
+/// its middle sample; 0 unless the parabola opens downwards (y0 a maximum).
+double vertex_offset(double ym, double y0, double yp) {
+  const double curv = ym - 2.0 * y0 + yp;
+  return curv < 0.0 ? 0.5 * (ym - yp) / curv : 0.0;
+}
 
 /// First time p(t) crosses `level` upwards, linear between samples; NaN if it never does.
 double crossing(const std::vector<double>& t, const std::vector<double>& p, double level) {
@@ -166,11 +169,8 @@ Arrival arrival(const std::vector<double>& t, const std::vector<double>& p, doub
   const auto peak = static_cast<size_t>(std::max_element(pw.begin(), pw.end()) - pw.begin());
   r.peak = tw[peak];
   r.peak_pressure = pw[peak];
-  if (peak >= 1 && peak + 1 < n) { // the parabola through the peak and its neighbours
-    const double curv = pw[peak - 1] - 2.0 * pw[peak] + pw[peak + 1];
-    if (curv < 0.0)
-      r.peak += 0.5 * (pw[peak - 1] - pw[peak + 1]) / curv * dt;
-  }
+  if (peak >= 1 && peak + 1 < n) // the parabola through the peak and its neighbours
+    r.peak += vertex_offset(pw[peak - 1], pw[peak], pw[peak + 1]) * dt;
   r.own_peak = crossing(tw, pw, 0.5 * r.peak_pressure);
   // Largest dp/dt: differences at the step midpoints, refined by a parabola.
   size_t best = 1;
@@ -178,12 +178,10 @@ Arrival arrival(const std::vector<double>& t, const std::vector<double>& p, doub
     if (pw[i] - pw[i - 1] > pw[best] - pw[best - 1])
       best = i;
   r.max_slope = tw[best] - 0.5 * dt;
-  if (best >= 2 && best + 1 < n) {
-    const double sm = pw[best - 1] - pw[best - 2], s0 = pw[best] - pw[best - 1],
-                 sp = pw[best + 1] - pw[best], curv = sm - 2.0 * s0 + sp;
-    if (curv < 0.0)
-      r.max_slope += 0.5 * (sm - sp) / curv * dt;
-  }
+  if (best >= 2 && best + 1 < n)
+    r.max_slope += vertex_offset(pw[best - 1] - pw[best - 2], pw[best] - pw[best - 1],
+                                 pw[best + 1] - pw[best]) *
+                   dt;
   return r;
 }
 
@@ -300,7 +298,7 @@ Speeds fit_speeds(const std::vector<Arrival>& arrivals) {
 /// The same measurement on the linear continuum (pulse_continuum.hpp) of long-wave speed
 /// c_long, sampled at the run's times t; c_cut: the speed the run's cut assumed.
 Speeds continuum_speeds(double c_long, const std::vector<double>& t, double slab, double c_cut) {
-  const PulseContinuum tube({a, h, rho_f, mu, rho_s, c_long}, inlet_pressure, t_end);
+  const PulseContinuum tube(continuum_tube(c_long), inlet_pressure, t_end);
   std::vector<std::vector<double>> p(static_cast<size_t>(std::lround(L / axis_spacing)) + 1);
   for (double z : kStations)
     for (int d : {-1, 0, 1}) {
@@ -484,7 +482,8 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
                  {"thick_wall_open_ended_m_per_s", c_open},
                  {"moens_korteweg_thin_wall_m_per_s", c_mk},
                  {"moens_korteweg_plate_m_per_s", c_mk_plate},
-                 {"short_wave_speed_pulse_fundamental_m_per_s", short_wave_speed(c_thick, k_pulse)},
+                 {"short_wave_speed_pulse_fundamental_m_per_s",
+                  dispersive_speed(continuum_tube(c_thick), k_pulse)},
                  {"edge_s", t_edge},
                  {"stations_m", kStations},
                  {"runs", nlohmann::json::array({to_json(coarse)})}};

@@ -31,23 +31,28 @@ double bessel_i_ratio(double x) {
 std::optional<cplx> wavenumber(const ContinuumTube& tube, double w) {
   if (w == 0.0)
     return cplx(0.0);
-  const double a = tube.radius, c0 = tube.long_wave_speed;
-  const double beta = tube.wall_density * tube.wall_thickness * a / (2.0 * tube.fluid_density);
-  auto omega2 = [&](double k) {
-    return c0 * c0 * k * k / (0.5 * k * a * bessel_i_ratio(k * a) + beta * k * k);
-  };
-  double lo = w / c0, hi = 2e4; // omega2 grows with k; k a = 100 is far past the cut-off
+  auto omega2 = [&](double k) { return std::pow(k * dispersive_speed(tube, k), 2); };
+  // omega2 grows with k; k a = 100 is far past the cut-off.
+  double lo = w / tube.long_wave_speed, hi = 2e4;
   if (omega2(hi) <= w * w)
     return std::nullopt;
   for (int i = 0; i < 100; ++i) {
     const double mid = 0.5 * (lo + hi);
     (omega2(mid) < w * w ? lo : hi) = mid;
   }
-  const double alpha = a * std::sqrt(w * tube.fluid_density / tube.viscosity);
+  const double alpha = tube.radius * std::sqrt(w * tube.fluid_density / tube.viscosity);
   return 0.5 * (lo + hi) / std::sqrt(1.0 - womersley_f10(alpha));
 }
 
 } // namespace
+
+double dispersive_speed(const ContinuumTube& tube, double k) {
+  const double ka = k * tube.radius;
+  const double fluid = 0.5 * ka * bessel_i_ratio(ka);
+  const double wall =
+      tube.wall_density * tube.wall_thickness * tube.radius * k * k / (2.0 * tube.fluid_density);
+  return tube.long_wave_speed / std::sqrt(fluid + wall);
+}
 
 PulseContinuum::PulseContinuum(const ContinuumTube& tube,
                                const std::function<double(double)>& inlet, double duration) {

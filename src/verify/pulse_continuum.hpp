@@ -31,6 +31,10 @@ struct ContinuumTube {
   double long_wave_speed = 0.0; ///< c0 [m/s]
 };
 
+/// Phase speed [m/s] of the inviscid wave of wavenumber k > 0 [1/m] in the tube, the
+/// dispersion relation above: c0 / sqrt((ka/2) I0(ka) / I1(ka) + rho_s h a k^2 / (2 rho)).
+double dispersive_speed(const ContinuumTube& tube, double k);
+
 class PulseContinuum {
 public:
   /// `inlet`: the inlet pressure p(0, t) [Pa], zero after its pulse; `duration`: the time
