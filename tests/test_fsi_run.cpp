@@ -5,18 +5,23 @@
 //  - 2 MPI ranks give the serial result to solver tolerance;
 //  - a run restarted from its checkpoint continues the uninterrupted one;
 //  - a run whose wall is overloaded (tube_diverges.yaml) stops with a message that says what
-//    failed, where and in which step, and a non-zero exit.
+//    failed, where and in which step, and a non-zero exit;
+//  - the default preconditioner splits the unknowns as fsi_preconditioner.hpp says.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "cli_support.hpp"
+#include "mesh/pipe_generator.hpp"
 
 namespace fs = std::filesystem;
 using tearflow::testing::fresh_dir;
@@ -124,4 +129,40 @@ TEST(FsiRun, OverloadedWallStopsWithAClearMessage) {
   ASSERT_NE(first, std::string::npos) << two.output;
   EXPECT_EQ(two.output.find("error: Newton failed", first + 1), std::string::npos) << two.output;
   EXPECT_THAT(two.output, Not(HasSubstr("MPI_ABORT"))) << two.output;
+}
+
+TEST(FsiRun, DefaultSplitSolvesTheWallWhole) {
+  const auto r = run_tearflow("run " + tube.string() + " --steps 1 -o " +
+                              fresh_dir("fsi-split-view").string() + " -- -fsi_ksp_view");
+  ASSERT_EQ(r.code, 0) << r.output;
+  // The first number matching `pattern` in PETSc's view of the solver (-1: none).
+  const auto first = [&](const char* pattern) {
+    std::smatch m;
+    return std::regex_search(r.output, m, std::regex(pattern)) ? std::stol(m[1]) : -1L;
+  };
+  const long nodes = first("mesh: (\\d+) nodes");
+  const long wall = first("type: mumps\\s+rows=(\\d+)");      // wall velocity and pressure, direct
+  const long fluid = first("rows=(\\d+), cols=\\d+, bs=3");   // fluid-only velocity, BoomerAMG
+  const long motion = first("rows=(\\d+), cols=\\d+, bs=4");  // every velocity, wall pressure
+  const long schur = first("schurcomplement\\s+rows=(\\d+)"); // the fluid pressure
+  ASSERT_GT(nodes, 0) << r.output;
+  EXPECT_EQ(schur, nodes);
+  EXPECT_EQ(motion, 4 * nodes);
+  // A wall node's four motion unknowns go to the wall block; a fluid-only node's velocity
+  // to the fluid block (its unused wall pressure to the wall's). The case's pipe, rebuilt
+  // here, says which nodes have wall tets.
+  const tearflow::mesh::Mesh mesh = tearflow::mesh::make_pipe(
+      {.radius = 0.005, .length = 0.012, .element_size = 0.0015, .wall_thickness = 0.001});
+  ASSERT_EQ(static_cast<long>(mesh.num_nodes()), nodes);
+  const int wall_region = static_cast<int>(
+      std::find(mesh.regions.begin(), mesh.regions.end(), "wall") - mesh.regions.begin());
+  std::vector<bool> in_wall(mesh.num_nodes(), false);
+  for (size_t e = 0; e < mesh.tets.size(); ++e)
+    if (mesh.tet_region[e] == wall_region)
+      for (auto v : mesh.tets[e])
+        in_wall[v] = true;
+  const long fluid_nodes = std::count(in_wall.begin(), in_wall.end(), false);
+  EXPECT_GT(fluid_nodes, 0);
+  EXPECT_EQ(fluid, 3 * fluid_nodes);
+  EXPECT_EQ(wall, 4 * (nodes - fluid_nodes) + fluid_nodes);
 }

@@ -82,6 +82,8 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& ne
     if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name, &set) == 0 && !set)
       TF_PETSC(PetscOptionsSetValue(nullptr, name, value));
   TF_PETSC(SNESSetFromOptions(snes_));
+  if constexpr (requires(Problem & p, KSP k) { p.attach_preconditioner(k); })
+    problem.attach_preconditioner(ksp);
   TF_PETSC(SNESSetConvergenceHistory(snes_, residual_history_.data(), nullptr,
                                      static_cast<PetscInt>(residual_history_.size()), PETSC_TRUE));
 }

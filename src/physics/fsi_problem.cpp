@@ -23,13 +23,17 @@ FsiProblem::FsiProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
     for (Index v : mesh.tets[e])
       (r == regions.fluid ? in_fluid : in_wall)[v] = 1;
   }
+  std::vector<unsigned char> wall_node(static_cast<size_t>(dmesh.num_owned()));
   for (Index l = 0; l < dmesh.num_owned(); ++l) {
     const Index n = dmesh.original_index(l);
     if (!in_fluid[n])
       unused_rows_.push_back(dofs_.global_dof(l, fluid_pressure));
     if (!in_wall[n])
       unused_rows_.push_back(dofs_.global_dof(l, wall_pressure));
+    wall_node[l] = in_wall[n];
   }
+  preconditioner_ =
+      std::make_unique<FsiPreconditioner>(dofs_, wall_node, fluid_pressure, wall_pressure);
   identity_rows_ = fluid_.dirichlet_rows();
   const std::vector<PetscInt> wall_rows = wall_.dirichlet_rows();
   identity_rows_.insert(identity_rows_.end(), wall_rows.begin(), wall_rows.end());
@@ -48,52 +52,37 @@ FsiProblem::FsiProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
 }
 
 std::vector<std::pair<const char*, const char*>> FsiProblem::default_solver_options() {
-  // GMRES with a Schur-complement field split of the shared velocity (dofs 0-2) against the
-  // two pressures (3, 4), BoomerAMG on the velocity block and on the selfp Schur
-  // approximation (the fluid's HMIS / ext+i settings: half the time per step of hypre's
-  // defaults on pipe-fsi); rebuilt every tenth Newton iteration, across steps (pipe-fsi, 2
-  // ranks: 6.5 s/step against 7.4 with every third, same Newton counts). Measured on the
-  // compliant tubes of verify inflation / pulse (12-35 k tets): 5-15 Krylov iterations per
-  // Newton iteration. A sparse direct solve (-fsi_pc_type lu
-  // -fsi_pc_factor_mat_solver_type mumps, turtleFSI's choice) needed 1-2 iterations but its
-  // factorization grew to 14 s per step at 35 k tets (fill of the long tube).
+  // GMRES with the field split of fsi_preconditioner.hpp (the wall's velocity and pressure
+  // solved together, the fluid pressure's selfp Schur complement under BoomerAMG), rebuilt
+  // every tenth Newton iteration, across steps (pipe-fsi, 2 ranks: 6.5 s/step against 7.4
+  // with every third, same Newton counts). A sparse direct solve of the whole system
+  // (-fsi_pc_type lu -fsi_pc_factor_mat_solver_type mumps, turtleFSI's choice) needed 1-2
+  // iterations but its factorization grew to 14 s per step at 35 k tets (fill of the long
+  // tube).
   //
   // Inexact Newton: the Jacobian leaves out the shape derivatives, so Newton contracts the
   // residual by only ~0.02-0.05 per iteration; solving each linear system to 1e-2 instead of
   // 1e-4 costs no extra Newton iterations, and the lower-triangular Schur factorization
-  // saves one velocity V-cycle per Krylov iteration for a few more iterations. Measured (CPU
-  // seconds, same steps, 1 rank): the 4.5 mm dissection (121 k tets, dt 5 ms, 2 steps)
-  // 63.8 -> 31.5 s, Krylov iterations 389 -> 203, Newton 10 -> 11; pipe-fsi (4 steps)
-  // 62.2 -> 43.4 s, Krylov 100 -> 57, Newton 12 -> 13.
+  // saves one V-cycle per Krylov iteration for a few more iterations. Measured (CPU seconds,
+  // same steps, 1 rank): the 4.5 mm dissection (121 k tets, dt 5 ms, 2 steps) 63.8 -> 31.5 s,
+  // Krylov iterations 389 -> 203, Newton 10 -> 11; pipe-fsi (4 steps) 62.2 -> 43.4 s, Krylov
+  // 100 -> 57, Newton 12 -> 13.
   //
-  // Backtracking line search: without the shape derivatives a full step can overshoot when
-  // the wall moves far in one step. On the 8 mm dissection at dt 20 ms the full-step
-  // iteration stalled at 2e-5 relative in step 7 (30 iterations); with bt that step takes 9,
-  // and steps 1-6, whose full steps bt accepts, are unchanged (iterations and time).
-  return {{"-fsi_ksp_rtol", "1e-2"},
-          {"-fsi_snes_linesearch_type", "bt"},
-          {"-fsi_pc_type", "fieldsplit"},
-          {"-fsi_pc_fieldsplit_0_fields", "0,1,2"},
-          {"-fsi_pc_fieldsplit_1_fields", "3,4"},
-          {"-fsi_pc_fieldsplit_type", "schur"},
-          {"-fsi_pc_fieldsplit_schur_fact_type", "lower"},
-          {"-fsi_pc_fieldsplit_schur_precondition", "selfp"},
-          {"-fsi_fieldsplit_0_ksp_type", "preonly"},
-          {"-fsi_fieldsplit_0_pc_type", "hypre"},
-          {"-fsi_fieldsplit_0_pc_hypre_boomeramg_coarsen_type", "HMIS"},
-          {"-fsi_fieldsplit_0_pc_hypre_boomeramg_interp_type", "ext+i"},
-          {"-fsi_fieldsplit_0_pc_hypre_boomeramg_P_max", "4"},
-          {"-fsi_fieldsplit_0_pc_hypre_boomeramg_agg_nl", "1"},
-          {"-fsi_fieldsplit_0_pc_hypre_boomeramg_strong_threshold", "0.5"},
-          {"-fsi_fieldsplit_1_ksp_type", "preonly"},
-          {"-fsi_fieldsplit_1_pc_type", "hypre"},
-          {"-fsi_fieldsplit_1_pc_hypre_boomeramg_coarsen_type", "HMIS"},
-          {"-fsi_fieldsplit_1_pc_hypre_boomeramg_interp_type", "ext+i"},
-          {"-fsi_fieldsplit_1_pc_hypre_boomeramg_P_max", "4"},
-          {"-fsi_fieldsplit_1_pc_hypre_boomeramg_agg_nl", "1"},
-          {"-fsi_fieldsplit_1_pc_hypre_boomeramg_strong_threshold", "0.5"},
-          {"-fsi_snes_lag_preconditioner", "10"},
-          {"-fsi_snes_lag_preconditioner_persists", "true"}};
+  // Full Newton steps (basic line search): the missing shape derivatives make single steps
+  // raise ||R|| now and then, and the next one falls far below (e.g. 1.3e-6 -> 4.2e-6 ->
+  // 4.7e-8). Backtracking refuses such a step and then stalls on the same direction: with
+  // this split, bt stalled the 4.5 mm dissection at 1.28e-6 in step 1, and the 2 mm one
+  // (also with right preconditioning) failed its line search; full steps converge at 4.5, 3
+  // and 2 mm (docs/performance.md). Large steps (8 mm, dt 20 ms) stall near the tolerance in
+  // step 6 with either search (the previous split with bt reached step 21): the shape
+  // derivatives are their fix.
+  std::vector<std::pair<const char*, const char*>> options = {
+      {"-fsi_ksp_rtol", "1e-2"},
+      {"-fsi_snes_lag_preconditioner", "10"},
+      {"-fsi_snes_lag_preconditioner_persists", "true"}};
+  for (const auto& option : FsiPreconditioner::default_options())
+    options.push_back(option);
+  return options;
 }
 
 void FsiProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {

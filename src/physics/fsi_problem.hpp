@@ -19,9 +19,11 @@
 // the full nonlinear system; the Jacobian leaves out the shape derivatives (the fluid's
 // dependence on the mesh position), a quasi-Newton method as in svFSI, which converges in a
 // few more iterations when the wall moves little per step.
+#include <memory>
 #include <vector>
 
 #include "physics/fluid_problem.hpp"
+#include "physics/fsi_preconditioner.hpp"
 #include "physics/mesh_motion.hpp"
 #include "physics/solid_problem.hpp"
 
@@ -61,6 +63,9 @@ public:
   void update_acceleration(Vec U_next, Vec U_n, Vec Udot);
   void commit_step(Vec U_next) { fluid_.commit_step(U_next); }
   static std::vector<std::pair<const char*, const char*>> default_solver_options();
+  /// Names the default preconditioner's blocks on the Newton solver's KSP
+  /// (fsi_preconditioner.hpp).
+  void attach_preconditioner(KSP ksp) { preconditioner_->attach(ksp); }
 
   /// Sets the displacement from a full vector in the input mesh's node order (block 5 per
   /// node, as a checkpoint holds it) and puts the fluid on that configuration.
@@ -92,6 +97,7 @@ private:
   std::vector<PetscInt> unused_rows_;   ///< owned pressure slots of the other physics' nodes
   fem::OwnedVec D_, U_loc_, R_loc_, Un_loc_, An_loc_, Dn_loc_;
   std::vector<Vec3> d_next_; ///< d_{n+1} per local node, from the last move_fluid_mesh
+  std::unique_ptr<FsiPreconditioner> preconditioner_;
 };
 
 } // namespace tearflow::physics
