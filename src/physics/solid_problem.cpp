@@ -35,8 +35,7 @@ SolidProblem::SolidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
                            SolidScheme scheme, FieldLayout layout)
     : dmesh_(dmesh), layout_(layout), B_(layout.block), P_(layout.pressure),
       elements_(layout.elements(dmesh)), dofs_(dmesh, layout.block), inserter_(dofs_),
-      material_(material),
-      conditions_(std::move(conditions)), scheme_(scheme) {
+      material_(material), conditions_(std::move(conditions)), scheme_(scheme) {
   const auto n_local = static_cast<size_t>(dmesh.num_local());
   const auto& x = dmesh.points();
   geometry_.resize(dmesh.tets().size());
