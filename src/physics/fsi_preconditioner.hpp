@@ -21,10 +21,10 @@
 // which stays spectrally equivalent under refinement (a Stokes / Oseen pressure). The wall
 // is thin: its block is a small part of the system and its direct factorization is cheap.
 // Measured on the dissection (dt 5 ms, 118 k -> 286 k tets): 11.7 -> 12.5 Krylov iterations
-// per Newton iteration (the velocity-only split: 15.9 -> 21.6), 8 % less CPU at 286 k tets.
-// On thick tubes the counts are flat too, but the factorization of a cylindrical wall costs
-// more than it saves (pulse tube 1.7x, pipe-fsi on 2 ranks 1.09x the velocity-only split's
-// time; docs/performance.md).
+// per Newton iteration (the velocity-only split: 15.9 -> 21.6) and 25 % less CPU at 286 k
+// tets; pipe-fsi 4.45 s/step on 2 ranks against 5.39; only the small pulse tube on 2 ranks
+// is slower (0.41 against 0.35 s/step). With OpenBLAS: the reference BLAS makes MUMPS 3.4x
+// slower (docs/performance.md).
 //
 // Every piece stays a PETSc option (prefixes -fsi_fieldsplit_motion_,
 // -fsi_fieldsplit_motion_fieldsplit_wall_, ..._fluid_, -fsi_fieldsplit_pressure_). Giving
