@@ -115,7 +115,11 @@ int verify_command(const std::string& name, bool list, bool convergence, double 
   }();
   if (root)
     fmt::print("{}\n", r.to_json().dump(2));
-  return r.passed() ? 0 : 1;
+  // Rank 0's verdict for every rank, so that a failed check ends the run on all of them
+  // alike (main then needs no MPI_Abort).
+  int passed = r.passed() ? 1 : 0;
+  MPI_Bcast(&passed, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  return passed ? 0 : 1;
 }
 
 } // namespace
@@ -176,8 +180,10 @@ int main(int argc, char** argv) {
     app.parse(static_cast<int>(ours.size()), ours.data());
     if (*run)
       code = run_command(case_file, restart, output, quiet, cli_petsc, steps);
-    if (*verify)
+    if (*verify) {
       code = verify_command(verify_name, list, convergence, coarsening, progress, output);
+      all_ranks_stopped = true; // the same code on every rank
+    }
     if (geometry_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
       code = geometry_command.run();
     if (tune_command.selected())
