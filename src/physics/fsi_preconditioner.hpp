@@ -20,11 +20,12 @@
 // Forti, Grandperrin & Quarteroni, J. Comput. Phys. 2016), leaves the fluid pressure's selfp,
 // which stays spectrally equivalent under refinement (a Stokes / Oseen pressure). The wall
 // is thin: its block is a small part of the system and its direct factorization is cheap.
-// Measured on the dissection (dt 5 ms, 118 k -> 286 k tets): 11.7 -> 12.5 Krylov iterations
-// per Newton iteration (the velocity-only split: 15.9 -> 21.6) and 25 % less CPU at 286 k
-// tets; pipe-fsi 4.45 s/step on 2 ranks against 5.39; only the small pulse tube on 2 ranks
-// is slower (0.41 against 0.35 s/step). With OpenBLAS: the reference BLAS makes MUMPS 3.4x
-// slower (docs/performance.md).
+// Measured on the dissection (dt 5 ms, 118 k -> 286 k -> 503 k tets): 11.7 -> 12.5 -> 14.5
+// Krylov iterations per Newton iteration (the velocity-only split: 15.9 -> 21.6 -> 23.2; an
+// exact solve of the whole motion block: 14.0 at 503 k) and 25 % less CPU at 286 k tets;
+// pipe-fsi 4.45 s/step on 2 ranks against 5.39; only the small pulse tube on 2 ranks is slower
+// (0.41 against 0.35 s/step). With OpenBLAS: the reference BLAS makes MUMPS 3.4x slower
+// (docs/performance.md).
 //
 // Every piece stays a PETSc option (prefixes -fsi_fieldsplit_motion_,
 // -fsi_fieldsplit_motion_fieldsplit_wall_, ..._fluid_, -fsi_fieldsplit_pressure_). Giving
