@@ -15,6 +15,21 @@ PetscSession::~PetscSession() {
   PetscFinalize();
 }
 
+void set_default_options(const OptionList& options) {
+  for (const auto& [name, value] : options)
+    if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set) == 0 && !set)
+      TF_PETSC(PetscOptionsSetValue(nullptr, name.c_str(), value.c_str()));
+}
+
+OptionList boomeramg_3d_options(const std::string& prefix) {
+  return {{prefix + "pc_type", "hypre"},
+          {prefix + "pc_hypre_boomeramg_coarsen_type", "HMIS"},
+          {prefix + "pc_hypre_boomeramg_interp_type", "ext+i"},
+          {prefix + "pc_hypre_boomeramg_P_max", "4"},
+          {prefix + "pc_hypre_boomeramg_agg_nl", "1"},
+          {prefix + "pc_hypre_boomeramg_strong_threshold", "0.5"}};
+}
+
 int mpi_rank(MPI_Comm comm) {
   int r = 0;
   MPI_Comm_rank(comm, &r);

@@ -3,6 +3,7 @@
 // hold a handle and destroy it, nothing more.
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <petscksp.h>
 #include <petscsnes.h>
@@ -95,6 +96,19 @@ public:
   PetscSession(const PetscSession&) = delete;
   PetscSession& operator=(const PetscSession&) = delete;
 };
+
+/// PETSc options as (name, value) pairs, e.g. {"-fluid_ksp_rtol", "1e-2"}.
+using OptionList = std::vector<std::pair<std::string, std::string>>;
+
+/// Enters each option into PETSc's database unless it is already there: our defaults give
+/// way to whatever the case file or the command line set.
+void set_default_options(const OptionList& options);
+
+/// BoomerAMG as tuned for our 3D P1 blocks, under `prefix` (e.g. "-fluid_fieldsplit_1_"):
+/// HMIS coarsening, ext+i interpolation, P_max 4, one level of aggressive coarsening, strong
+/// threshold 0.5: cheaper setup and V-cycles than hypre's defaults at equal iteration counts
+/// (pipe-fsi: 16.4 against 35 s/step, docs/performance.md).
+OptionList boomeramg_3d_options(const std::string& prefix);
 
 int mpi_rank(MPI_Comm comm = PETSC_COMM_WORLD);
 int mpi_size(MPI_Comm comm = PETSC_COMM_WORLD);

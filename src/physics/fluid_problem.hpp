@@ -39,7 +39,7 @@ public:
   static constexpr int block = 4; // u_x, u_y, u_z, p per node on its own
   static constexpr const char* options_prefix = "fluid_";
   /// The solver defaults (fluid_solver.cpp), entered where the user set nothing.
-  static std::vector<std::pair<const char*, const char*>> default_solver_options();
+  static fem::OptionList default_solver_options();
 
   FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh, FluidProperties fluid,
                bc::FluidConditions conditions, GeneralizedAlpha scheme, FieldLayout layout = {});

@@ -11,24 +11,21 @@
 
 namespace tearflow::physics {
 
-std::vector<std::pair<const char*, const char*>> FluidProblem::default_solver_options() {
-  return {{"-fluid_pc_type", "fieldsplit"},
-          {"-fluid_pc_fieldsplit_0_fields", "0,1,2"},
-          {"-fluid_pc_fieldsplit_1_fields", "3"},
-          {"-fluid_pc_fieldsplit_type", "schur"},
-          {"-fluid_pc_fieldsplit_schur_fact_type", "full"},
-          {"-fluid_pc_fieldsplit_schur_precondition", "selfp"},
-          {"-fluid_fieldsplit_0_ksp_type", "preonly"},
-          {"-fluid_fieldsplit_0_pc_type", "bjacobi"},
-          {"-fluid_fieldsplit_1_ksp_type", "preonly"},
-          {"-fluid_fieldsplit_1_pc_type", "hypre"},
-          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_coarsen_type", "HMIS"},
-          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_interp_type", "ext+i"},
-          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_P_max", "4"},
-          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_agg_nl", "1"},
-          {"-fluid_fieldsplit_1_pc_hypre_boomeramg_strong_threshold", "0.5"},
-          {"-fluid_snes_lag_preconditioner", "3"},
-          {"-fluid_snes_lag_preconditioner_persists", "true"}};
+fem::OptionList FluidProblem::default_solver_options() {
+  fem::OptionList options = {{"-fluid_pc_type", "fieldsplit"},
+                             {"-fluid_pc_fieldsplit_0_fields", "0,1,2"},
+                             {"-fluid_pc_fieldsplit_1_fields", "3"},
+                             {"-fluid_pc_fieldsplit_type", "schur"},
+                             {"-fluid_pc_fieldsplit_schur_fact_type", "full"},
+                             {"-fluid_pc_fieldsplit_schur_precondition", "selfp"},
+                             {"-fluid_fieldsplit_0_ksp_type", "preonly"},
+                             {"-fluid_fieldsplit_0_pc_type", "bjacobi"},
+                             {"-fluid_fieldsplit_1_ksp_type", "preonly"},
+                             {"-fluid_snes_lag_preconditioner", "3"},
+                             {"-fluid_snes_lag_preconditioner_persists", "true"}};
+  for (auto& option : fem::boomeramg_3d_options("-fluid_fieldsplit_1_"))
+    options.push_back(std::move(option));
+  return options;
 }
 
 template <typename Problem>
@@ -78,9 +75,7 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& ne
   // blocks rebuilt every iteration, 2.9 s/step with these defaults, same Newton iterations;
   // ILU(0) on the coupled system stalled (> 1000 GMRES iterations). Entered only where the
   // user set nothing, so any PETSc option wins.
-  for (const auto& [name, value] : Problem::default_solver_options())
-    if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name, &set) == 0 && !set)
-      TF_PETSC(PetscOptionsSetValue(nullptr, name, value));
+  fem::set_default_options(Problem::default_solver_options());
   TF_PETSC(SNESSetFromOptions(snes_));
   if constexpr (requires(Problem & p, KSP k) { p.attach_preconditioner(k); })
     problem.attach_preconditioner(ksp);

@@ -56,35 +56,29 @@ FsiPreconditioner::FsiPreconditioner(const fem::DofMap& dofs,
   fluid_ = make_is(comm, fluid, 3);
 }
 
-std::vector<std::pair<const char*, const char*>> FsiPreconditioner::default_options() {
-  return {{"-fsi_pc_type", "fieldsplit"},
-          {"-fsi_pc_fieldsplit_type", "schur"},
-          {"-fsi_pc_fieldsplit_schur_fact_type", "lower"},
-          {"-fsi_pc_fieldsplit_schur_precondition", "selfp"},
-          {"-fsi_fieldsplit_motion_ksp_type", "preonly"},
-          {"-fsi_fieldsplit_motion_pc_type", "fieldsplit"},
-          {"-fsi_fieldsplit_motion_pc_fieldsplit_type", "multiplicative"},
-          {"-fsi_fieldsplit_motion_fieldsplit_wall_ksp_type", "preonly"},
-          {"-fsi_fieldsplit_motion_fieldsplit_wall_pc_type", "lu"},
-          {"-fsi_fieldsplit_motion_fieldsplit_wall_pc_factor_mat_solver_type", "mumps"},
-          // Block low-rank factors to 1e-3: same Krylov counts, half the factorization time
-          // on pipe-fsi's thick 85 k-tet wall (docs/performance.md).
-          {"-fsi_fieldsplit_motion_fieldsplit_wall_mat_mumps_icntl_35", "1"},
-          {"-fsi_fieldsplit_motion_fieldsplit_wall_mat_mumps_cntl_7", "1e-3"},
-          {"-fsi_fieldsplit_motion_fieldsplit_fluid_ksp_type", "preonly"},
-          {"-fsi_fieldsplit_motion_fieldsplit_fluid_pc_type", "hypre"},
-          {"-fsi_fieldsplit_motion_fieldsplit_fluid_pc_hypre_boomeramg_coarsen_type", "HMIS"},
-          {"-fsi_fieldsplit_motion_fieldsplit_fluid_pc_hypre_boomeramg_interp_type", "ext+i"},
-          {"-fsi_fieldsplit_motion_fieldsplit_fluid_pc_hypre_boomeramg_P_max", "4"},
-          {"-fsi_fieldsplit_motion_fieldsplit_fluid_pc_hypre_boomeramg_agg_nl", "1"},
-          {"-fsi_fieldsplit_motion_fieldsplit_fluid_pc_hypre_boomeramg_strong_threshold", "0.5"},
-          {"-fsi_fieldsplit_pressure_ksp_type", "preonly"},
-          {"-fsi_fieldsplit_pressure_pc_type", "hypre"},
-          {"-fsi_fieldsplit_pressure_pc_hypre_boomeramg_coarsen_type", "HMIS"},
-          {"-fsi_fieldsplit_pressure_pc_hypre_boomeramg_interp_type", "ext+i"},
-          {"-fsi_fieldsplit_pressure_pc_hypre_boomeramg_P_max", "4"},
-          {"-fsi_fieldsplit_pressure_pc_hypre_boomeramg_agg_nl", "1"},
-          {"-fsi_fieldsplit_pressure_pc_hypre_boomeramg_strong_threshold", "0.5"}};
+fem::OptionList FsiPreconditioner::default_options() {
+  fem::OptionList options = {
+      {"-fsi_pc_type", "fieldsplit"},
+      {"-fsi_pc_fieldsplit_type", "schur"},
+      {"-fsi_pc_fieldsplit_schur_fact_type", "lower"},
+      {"-fsi_pc_fieldsplit_schur_precondition", "selfp"},
+      {"-fsi_fieldsplit_motion_ksp_type", "preonly"},
+      {"-fsi_fieldsplit_motion_pc_type", "fieldsplit"},
+      {"-fsi_fieldsplit_motion_pc_fieldsplit_type", "multiplicative"},
+      {"-fsi_fieldsplit_motion_fieldsplit_wall_ksp_type", "preonly"},
+      {"-fsi_fieldsplit_motion_fieldsplit_wall_pc_type", "lu"},
+      {"-fsi_fieldsplit_motion_fieldsplit_wall_pc_factor_mat_solver_type", "mumps"},
+      // Block low-rank factors to 1e-3: same Krylov counts, half the factorization time
+      // on pipe-fsi's thick 85 k-tet wall (docs/performance.md).
+      {"-fsi_fieldsplit_motion_fieldsplit_wall_mat_mumps_icntl_35", "1"},
+      {"-fsi_fieldsplit_motion_fieldsplit_wall_mat_mumps_cntl_7", "1e-3"},
+      {"-fsi_fieldsplit_motion_fieldsplit_fluid_ksp_type", "preonly"},
+      {"-fsi_fieldsplit_pressure_ksp_type", "preonly"}};
+  for (const char* block :
+       {"-fsi_fieldsplit_motion_fieldsplit_fluid_", "-fsi_fieldsplit_pressure_"})
+    for (auto& option : fem::boomeramg_3d_options(block))
+      options.push_back(std::move(option));
+  return options;
 }
 
 void FsiPreconditioner::attach(KSP ksp) {

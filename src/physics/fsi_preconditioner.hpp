@@ -46,7 +46,7 @@ public:
                     int fluid_pressure, int wall_pressure);
 
   /// PETSc option defaults for this split (entered where the user set nothing).
-  static std::vector<std::pair<const char*, const char*>> default_options();
+  static fem::OptionList default_options();
 
   /// Names the outer split's index sets on the KSP's preconditioner, if it is a field split
   /// the user did not define by components, and arranges for the inner split to be named

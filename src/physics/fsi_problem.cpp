@@ -51,7 +51,7 @@ FsiProblem::FsiProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
   d_next_.assign(static_cast<size_t>(dmesh.num_local()), Vec3{});
 }
 
-std::vector<std::pair<const char*, const char*>> FsiProblem::default_solver_options() {
+fem::OptionList FsiProblem::default_solver_options() {
   // GMRES with the field split of fsi_preconditioner.hpp (the wall's velocity and pressure
   // solved together, the fluid pressure's selfp Schur complement under BoomerAMG), rebuilt
   // every tenth Newton iteration, across steps (pipe-fsi, 2 ranks: 6.5 s/step against 7.4
@@ -76,12 +76,11 @@ std::vector<std::pair<const char*, const char*>> FsiProblem::default_solver_opti
   // and 2 mm (docs/performance.md). Large steps (8 mm, dt 20 ms) stall near the tolerance in
   // step 6 with either search (the previous split with bt reached step 21): the shape
   // derivatives are their fix.
-  std::vector<std::pair<const char*, const char*>> options = {
-      {"-fsi_ksp_rtol", "1e-2"},
-      {"-fsi_snes_lag_preconditioner", "10"},
-      {"-fsi_snes_lag_preconditioner_persists", "true"}};
-  for (const auto& option : FsiPreconditioner::default_options())
-    options.push_back(option);
+  fem::OptionList options = {{"-fsi_ksp_rtol", "1e-2"},
+                             {"-fsi_snes_lag_preconditioner", "10"},
+                             {"-fsi_snes_lag_preconditioner_persists", "true"}};
+  for (auto& option : FsiPreconditioner::default_options())
+    options.push_back(std::move(option));
   return options;
 }
 

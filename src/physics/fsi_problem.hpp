@@ -62,7 +62,7 @@ public:
   /// Acceleration and displacement at t_{n+1} from the converged U_{n+1}.
   void update_acceleration(Vec U_next, Vec U_n, Vec Udot);
   void commit_step(Vec U_next) { fluid_.commit_step(U_next); }
-  static std::vector<std::pair<const char*, const char*>> default_solver_options();
+  static fem::OptionList default_solver_options();
   /// Names the default preconditioner's blocks on the Newton solver's KSP
   /// (fsi_preconditioner.hpp).
   void attach_preconditioner(KSP ksp) { preconditioner_->attach(ksp); }

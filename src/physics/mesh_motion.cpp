@@ -120,13 +120,7 @@ MeshMotion::MeshMotion(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
   TF_PETSC(KSPGetPC(ksp_, &pc));
   TF_PETSC(PCSetType(pc, PCHYPRE));
   // The fluid's BoomerAMG settings for 3D (HMIS / ext+i), unless the user set any.
-  for (const auto& [name, value] : {std::pair{"-mesh_pc_hypre_boomeramg_coarsen_type", "HMIS"},
-                                    std::pair{"-mesh_pc_hypre_boomeramg_interp_type", "ext+i"},
-                                    std::pair{"-mesh_pc_hypre_boomeramg_P_max", "4"},
-                                    std::pair{"-mesh_pc_hypre_boomeramg_agg_nl", "1"},
-                                    std::pair{"-mesh_pc_hypre_boomeramg_strong_threshold", "0.5"}})
-    if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name, &set) == 0 && !set)
-      TF_PETSC(PetscOptionsSetValue(nullptr, name, value));
+  fem::set_default_options(fem::boomeramg_3d_options("-mesh_"));
   // The displacement enters the fluid's geometry, so its error is a residual error of the
   // FSI system: solve below the Newton tolerance (1e-8 relative left pipe-fsi's Newton
   // residual histories unchanged against 1e-10, 0.3 s/step faster).
