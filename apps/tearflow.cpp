@@ -92,8 +92,7 @@ private:
   int saved_;
 };
 
-int verify_command(const std::string& name, bool list, bool convergence, double coarsening,
-                   bool progress, const std::string& output) {
+int verify_command(const std::string& name, bool list, const verify::VerifyOptions& options) {
   const auto& cases = verify::verification_cases();
   const bool root = fem::mpi_rank() == 0;
   if (list || name.empty()) {
@@ -111,7 +110,7 @@ int verify_command(const std::string& name, bool list, bool convergence, double 
   }
   const verify::VerificationResult r = [&] {
     const StdoutToStderr redirect;
-    return it->second.run({convergence, progress, coarsening, output});
+    return it->second.run(options);
   }();
   if (root)
     fmt::print("{}\n", r.to_json().dump(2));
@@ -149,9 +148,9 @@ int main(int argc, char** argv) {
   CLI::App app{"tearflow: blood flow and pressure in type B aortic dissection"};
   app.require_subcommand(1);
   std::string case_file, output, verify_name;
-  bool restart = false, quiet = false, list = false, convergence = false, progress = false;
+  bool restart = false, quiet = false, list = false;
   int steps = 0;
-  double coarsening = 1.0;
+  verify::VerifyOptions verify_options;
   auto* run = app.add_subcommand("run", "run a simulation case (built-in pulsatile pipe if none)");
   run->add_option("case", case_file, "case file (YAML)");
   run->add_flag("--restart", restart, "continue from the output directory's checkpoint");
@@ -162,11 +161,16 @@ int main(int argc, char** argv) {
   auto* verify = app.add_subcommand("verify", "run a built-in verification case, print JSON");
   verify->add_option("name", verify_name, "case name (see --list)");
   verify->add_flag("--list", list, "list the verification cases");
-  verify->add_flag("--convergence", convergence, "add the mesh-refinement study");
-  verify->add_option("--coarsen", coarsening, "mesh size factor (> 1 coarser; CI's reduced form)")
+  verify->add_flag("--convergence", verify_options.convergence, "add the mesh-refinement study");
+  verify
+      ->add_option("--coarsen", verify_options.coarsening,
+                   "mesh size factor (> 1 coarser; CI's reduced form)")
       ->check(CLI::Range(0.25, 8.0));
-  verify->add_flag("--progress", progress, "progress lines on stderr");
-  verify->add_option("-o,--output", output, "directory for the case's time series (CSV)");
+  verify->add_flag("--reduced", verify_options.reduced,
+                   "CI's short form where coarsening cannot shorten a case (pulse)");
+  verify->add_flag("--progress", verify_options.progress, "progress lines on stderr");
+  verify->add_option("-o,--output", verify_options.output,
+                     "directory for the case's time series (CSV)");
   const geometry::GeometryCommand geometry_command(app);
   const tuning::TuneCommand tune_command(app);
   const analysis::AnalyzeCommand analyze_command(app);
@@ -181,7 +185,7 @@ int main(int argc, char** argv) {
     if (*run)
       code = run_command(case_file, restart, output, quiet, cli_petsc, steps);
     if (*verify) {
-      code = verify_command(verify_name, list, convergence, coarsening, progress, output);
+      code = verify_command(verify_name, list, verify_options);
       all_ranks_stopped = true; // the same code on every rank
     }
     if (geometry_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
@@ -199,8 +203,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
   } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    if (!e.collective || fem::mpi_rank() == 0)
+      std::fprintf(stderr, "error: %s\n", e.what());
     code = 2;
+    all_ranks_stopped = e.collective;
   } catch (const SolverError& e) {
     if (!e.collective || fem::mpi_rank() == 0)
       std::fprintf(stderr, "error: %s\n", e.what());

@@ -114,3 +114,15 @@ TEST(CliVerify, ProgressOnStderrJsonAloneOnStdout) {
   EXPECT_THAT(read(err), HasSubstr("step "));
   EXPECT_THAT(read(out), Not(HasSubstr("step ")));
 }
+
+// An input that every rank checks alike (a --coarsen too coarse for the pulse's boundary
+// layers) stops all ranks together: exit code 2 and the message once, not once per rank.
+TEST(CliVerify, CollectiveInputErrorIsReportedOnce) {
+  const Result r = tearflow::testing::run_tearflow("verify pulse --coarsen 2", "mpirun -n 2");
+  EXPECT_NE(r.code, 0);
+  EXPECT_THAT(r.output, HasSubstr("--coarsen 2 gives elements of 2.00 mm"));
+  const std::regex message("error: verify pulse");
+  const auto n = std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), message),
+                               std::sregex_iterator());
+  EXPECT_EQ(n, 1) << r.output;
+}

@@ -9,9 +9,12 @@
 namespace tearflow {
 
 /// Bad input: a missing file, an unknown key, a wrong unit, an inverted element, ...
+/// `collective`: every rank checked the same input and threw it (see SolverError).
 class InputError : public std::runtime_error {
 public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(const std::string& what, bool collective = false)
+      : std::runtime_error(what), collective(collective) {}
+  bool collective;
 };
 
 /// A computation that could not go on: NaN, Newton failure, linear solver breakdown.
@@ -28,6 +31,12 @@ public:
 template <typename... Args>
 [[noreturn]] void input_error(fmt::format_string<Args...> f, Args&&... args) {
   throw InputError(fmt::format(f, std::forward<Args>(args)...));
+}
+
+/// input_error for a check every rank makes alike, before any rank can be left waiting.
+template <typename... Args>
+[[noreturn]] void collective_input_error(fmt::format_string<Args...> f, Args&&... args) {
+  throw InputError(fmt::format(f, std::forward<Args>(args)...), true);
 }
 
 } // namespace tearflow

@@ -109,7 +109,7 @@ void define_layered_pipe(const PipeSpec& s) {
   namespace geo = gmsh::model::geo;
   const BoundaryLayers& bl = s.layers;
   const double a = s.radius, b = a + s.wall_thickness;
-  const double ring = bl.first * (std::pow(bl.growth, bl.count) - 1.0) / (bl.growth - 1.0);
+  const double ring = bl.thickness();
   const double rc = a - ring;
   if (!(bl.first > 0.0) || !(bl.growth >= 1.0 + 1e-9) || bl.wall_layers < 1 || !(rc > 0.3 * a))
     input_error("pipe: boundary layers need first > 0 m, growth > 1, wall_layers >= 1 and a ring "

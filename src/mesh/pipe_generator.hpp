@@ -8,6 +8,7 @@
 // `inlet`, `outlet` (fluid caps), `interface` (between the regions), `wall_inlet`,
 // `wall_outlet` (the wall's end rings) and `outer_wall`: the compliant tube of the FSI
 // verification cases.
+#include <cmath>
 #include <filesystem>
 
 #include "mesh/mesh.hpp"
@@ -25,6 +26,10 @@ struct BoundaryLayers {
   double first = 0.0;  ///< thickness of the layer at the wall [m]
   double growth = 1.3; ///< thickness ratio of neighbouring layers, inwards
   int wall_layers = 3; ///< layers through the wall's thickness (with a wall)
+  /// The lumen's ring of layers: first (growth^count - 1) / (growth - 1) [m].
+  double thickness() const {
+    return growth == 1.0 ? count * first : first * (std::pow(growth, count) - 1.0) / (growth - 1.0);
+  }
 };
 
 struct PipeSpec {

@@ -60,7 +60,9 @@
 // Acceptance (issue 10), checked: the peak's speed within 10 % of the thick-wall estimate
 // (fails: see above) and within 5 % of the continuum's peak speed; with --convergence the
 // same at h, dt x 0.7, and the error against the estimate not larger on the finer level
-// beyond twice the two fits' combined standard error.
+// beyond twice the two fits' combined standard error. CI's reduced form (--reduced --coarsen
+// 1.5: dt 50 us, 300 steps, about 8 CPU minutes) checks the continuum alone and reports the
+// estimate's error: it guards the solver's wave physics while the issue's bound is open.
 //
 // Where the 3D tube differs from the continuum: the wall's axial waves (sqrt(E / rho_s) = 16
 // m/s) carry a precursor, 20 % of the peak 3 ms ahead at 2.5 cm, and a negative tail, which
@@ -80,6 +82,7 @@
 #include <fmt/format.h>
 
 #include "fem/petsc.hpp"
+#include "mesh/pipe_generator.hpp"
 #include "verify/cases.hpp"
 #include "verify/fsi_tube.hpp"
 #include "verify/pulse_continuum.hpp"
@@ -112,6 +115,12 @@ bc::Waveform inlet_pulse() {
     v.push_back(inlet_pressure(t.back()));
   }
   return bc::Waveform::periodic(t, v, 4.0 * t_end, "pulse inlet traction");
+}
+
+/// Boundary layers (see the file comment): six layers from 0.1 h growing by 1.5 to the
+/// core, three through the wall.
+mesh::BoundaryLayers pulse_layers(double element_size) {
+  return {6, 0.1 * element_size, 1.5, 3};
 }
 
 /// Long-wave speed [m/s] of a fluid-filled tube of distensibility D [1/Pa].
@@ -336,9 +345,7 @@ PulseRun run_pulse(double element_size, double dt, double c0, double c_open,
                    const VerifyOptions& options) {
   FsiTubeSpec spec;
   spec.pipe = {a, L, element_size, h};
-  // Boundary layers (see the file comment): six layers from 0.1 h growing by 1.5 to the
-  // core, three through the wall.
-  spec.pipe.layers = {6, 0.1 * element_size, 1.5, 3};
+  spec.pipe.layers = pulse_layers(element_size);
   spec.fluid = {rho_f, mu};
   spec.wall =
       physics::SolidMaterial::from_young_poisson(physics::SolidModel::NeoHookean, E, nu, rho_s);
@@ -452,8 +459,19 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
   const double c_mk = std::sqrt(E * h / (2.0 * rho_f * a));
   const double c_mk_plate = c_mk / std::sqrt(1.0 - nu * nu);
   const double k_pulse = std::numbers::pi / (c_thick * t_pulse);
-  // h 1 mm and dt 16.7 us by default; --coarsen 1.5: h 1.5 mm, dt 25 us.
-  const double size = 1e-3 * options.coarsening, dt = 2.5e-5 * options.coarsening / 1.5;
+  // h 1 mm and dt 16.7 us by default; --coarsen 1.5: h 1.5 mm, dt 25 us. --reduced doubles
+  // dt: 50 us still puts 25 steps in each 1.25 ms edge, and generalized-alpha's phase error,
+  // (w dt)^2 / 12 at the edge's w = 2 pi / 2.5 ms, is 0.13 %, far inside the fits' 1.2-1.5 %.
+  const double size = 1e-3 * options.coarsening,
+               dt = (options.reduced ? 2.0 : 1.0) * 2.5e-5 * options.coarsening / 1.5;
+  // The pipe generator asks the same (a core of at least 0.3 a); checked here on every rank
+  // before any meshing, so that all stop together with one message.
+  if (!(pulse_layers(size).thickness() < 0.7 * a))
+    collective_input_error("verify pulse: --coarsen {} gives elements of {:.2f} mm, whose boundary "
+                           "layers ({:.2f} mm) leave too small a core in the {} mm radius; "
+                           "expected --coarsen 1.6 or less",
+                           options.coarsening, 1e3 * size, 1e3 * pulse_layers(size).thickness(),
+                           1e3 * a);
   const PulseRun coarse = run_pulse(size, dt, c_thick, c_open, options);
   // The issue's measure: the peak's speed against the thick-wall estimate; and against the
   // continuum's peak speed for the same pulse, stations and cut, the wall free axially as
@@ -472,9 +490,13 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
 
   VerificationResult res;
   res.name = "pulse";
-  res.metrics.push_back({"wave_speed_relative_error", estimate_error(coarse), 0.10,
-                         "|c (arrival of the pressure peak, z = 1.25-2.5 cm) - thick-wall Lame "
-                         "estimate| / estimate; 10 % (issue 10)"});
+  // The reduced form (CI) checks the solver against its continuum and only reports the
+  // estimate, which the exact solution misses too (file comment): the full form checks it.
+  const Metric against_estimate{"wave_speed_relative_error", estimate_error(coarse), 0.10,
+                                "|c (arrival of the pressure peak, z = 1.25-2.5 cm) - "
+                                "thick-wall Lame estimate| / estimate; 10 % (issue 10)"};
+  if (!options.reduced)
+    res.metrics.push_back(against_estimate);
   res.metrics.push_back({"wave_speed_vs_continuum", continuum_error(coarse), 0.05,
                          "|c (peak) - the linear continuum's c (peak), same pulse, stations and "
                          "cut, wall free axially| / continuum's; 5 % (the model's 3D omissions)"});
@@ -487,6 +509,8 @@ VerificationResult verify_pulse(const VerifyOptions& options) {
                  {"edge_s", t_edge},
                  {"stations_m", kStations},
                  {"runs", nlohmann::json::array({to_json(coarse)})}};
+  if (options.reduced)
+    res.details["wave_speed_relative_error_not_checked"] = against_estimate.value;
   if (options.convergence) {
     const PulseRun fine = run_pulse(0.7 * size, 0.7 * dt, c_thick, c_open, options);
     res.details["runs"].push_back(to_json(fine));
