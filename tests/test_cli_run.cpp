@@ -143,6 +143,13 @@ TEST(CliRun, BadInputIsAClearErrorWithNonZeroExit) {
     EXPECT_THAT(zero.output, HasSubstr("expected a number > 0"));
   }
 
+  // A misspelt PETSc option: PETSc's own reason, not only the call that failed.
+  const Result option =
+      run("run " + (data / "fsi/tube.yaml").string() + " --steps 1 -q -o " +
+          fresh_dir("bad-petsc-option").string() + " -- -fsi_pc_type nonexistent_pc");
+  EXPECT_NE(option.code, 0);
+  EXPECT_THAT(option.output, HasSubstr("Unable to find requested PC type nonexistent_pc"));
+
   const Result missing = run("run /nonexistent/case.yaml");
   EXPECT_NE(missing.code, 0);
   EXPECT_THAT(missing.output, HasSubstr("/nonexistent/case.yaml"));

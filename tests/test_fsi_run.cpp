@@ -6,7 +6,10 @@
 //  - a run restarted from its checkpoint continues the uninterrupted one;
 //  - a run whose wall is overloaded (tube_diverges.yaml) stops with a message that says what
 //    failed, where and in which step, and a non-zero exit;
-//  - the default preconditioner splits the unknowns as fsi_preconditioner.hpp says.
+//  - the default preconditioner splits the unknowns as fsi_preconditioner.hpp says;
+//  - a step that Newton without the shape derivatives cannot converge in its allowed
+//    iterations is retried with the exact operator and gives the converged state
+//    (tube_large_step.yaml), serial and on 2 ranks, and a restart goes on with it.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -165,4 +168,37 @@ TEST(FsiRun, DefaultSplitSolvesTheWallWhole) {
   EXPECT_GT(fluid_nodes, 0);
   EXPECT_EQ(fluid, 3 * fluid_nodes);
   EXPECT_EQ(wall, 4 * (nodes - fluid_nodes) + fluid_nodes);
+}
+
+TEST(FsiRun, StalledStepIsRetriedWithTheExactOperator) {
+  const fs::path case_file = tearflow::testing::test_data / "fsi/tube_large_step.yaml";
+  const fs::path reference = fresh_dir("fsi-large-step-40"), retried = fresh_dir("fsi-large-step"),
+                 two = fresh_dir("fsi-large-step-2");
+  // The reference: enough iterations for the quasi-Newton method in every step.
+  const auto r0 = run_tearflow("run " + case_file.string() + " -q -o " + reference.string() +
+                               " -- -fsi_snes_max_it 40");
+  ASSERT_EQ(r0.code, 0) << r0.output;
+  EXPECT_THAT(r0.output, Not(HasSubstr("retrying")));
+  const auto r1 = run_tearflow("run " + case_file.string() + " -q -o " + retried.string());
+  ASSERT_EQ(r1.code, 0) << r1.output;
+  EXPECT_THAT(r1.output, HasSubstr("step t = 0.004 s: Newton without the shape derivatives "
+                                   "failed (DIVERGED_MAX_IT)"));
+  const auto r2 =
+      run_tearflow("run " + case_file.string() + " -q -o " + two.string(), "mpirun -n 2");
+  ASSERT_EQ(r2.code, 0) << r2.output;
+  // Both solve the same nonlinear system to 1e-9 relative (GMRES to 1e-4 per iteration): the
+  // states agree to solver tolerance, as in TwoRanksGiveTheSerialResult.
+  expect_same(read_faces(reference), read_faces(retried), 1e-5);
+  expect_same(read_faces(reference), read_faces(two), 1e-5);
+
+  // A restart after the switch goes on with the exact operator, which the checkpoint
+  // records: step 3 needs 9 iterations without the shape derivatives, more than the 7
+  // allowed, so a restart that forgot the method would stall and retry again.
+  const fs::path split = fresh_dir("fsi-large-step-split");
+  ASSERT_EQ(run_tearflow("run " + case_file.string() + " -q --steps 2 -o " + split.string()).code,
+            0);
+  const auto r3 = run_tearflow("run " + case_file.string() + " -q --restart -o " + split.string());
+  ASSERT_EQ(r3.code, 0) << r3.output;
+  EXPECT_THAT(r3.output, Not(HasSubstr("retrying")));
+  expect_same(read_faces(reference), read_faces(split), 1e-5);
 }

@@ -4,7 +4,7 @@
 //  - a run restarted from its checkpoint gives the results of an uninterrupted one;
 //  - 2 MPI ranks give the serial results to solver tolerance;
 //  - bad input (negative modulus, nu >= 0.5, robin on a face the mesh lacks) gives a clear
-//    message and exit code 2.
+//    message and exit code 2; a solver PETSc cannot set up gives PETSc's reason, exit 3.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -142,4 +142,15 @@ TEST(SolidRun, BadInputIsAClearError) {
   const Result r = run("run " + (data / "bad_robin_face.yaml").string() + " -q -o " +
                        fresh_dir("solid-bad").string());
   EXPECT_THAT(r.output, HasSubstr("its faces are inlet, outlet and wall"));
+}
+
+TEST(SolidRun, SolverFailureGivesPetscsReason) {
+  // A direct solver this PETSc lacks fails inside the Newton solve (at the first
+  // preconditioner setup), not while reading the options: the step's error says PETSc's why.
+  const Result r = run("run " + (data / "rod.yaml").string() + " --steps 1 -q -o " +
+                       fresh_dir("solid-bad-solver").string() +
+                       " -- -solid_pc_type lu -solid_pc_factor_mat_solver_type nonexistent");
+  EXPECT_EQ(r.code, 3) << r.output; // SolverError
+  EXPECT_THAT(r.output, HasSubstr("solid: Newton failed in the step from t = 0 s"));
+  EXPECT_THAT(r.output, HasSubstr("Could not locate solver type nonexistent"));
 }

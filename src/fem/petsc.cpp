@@ -15,6 +15,25 @@ PetscSession::~PetscSession() {
   PetscFinalize();
 }
 
+std::string petsc_error_text(PetscErrorCode ierr) {
+  const char* text = nullptr;
+  char* specific = nullptr;
+  PetscErrorMessage(static_cast<int>(ierr), &text, &specific);
+  std::string s = text ? text : "PETSc error " + std::to_string(ierr);
+  if (specific && *specific)
+    s += std::string(": ") + specific;
+  // One line: PETSc breaks its longer messages with a newline and tabs.
+  std::string line;
+  for (char c : s)
+    if (c == '\n' || c == '\t') {
+      if (!line.empty() && line.back() != ' ')
+        line += ' ';
+    } else {
+      line += c;
+    }
+  return line;
+}
+
 void set_default_options(const OptionList& options) {
   for (const auto& [name, value] : options)
     if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set) == 0 && !set)

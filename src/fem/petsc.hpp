@@ -12,10 +12,15 @@
 
 namespace tearflow::fem {
 
+/// PETSc's own words for an error code: its class and the message of the call that raised
+/// it (e.g. "Invalid argument: Unknown type ..."), kept by PETSc under our silent handler.
+std::string petsc_error_text(PetscErrorCode ierr);
+
 /// Turns a PETSc error code into a SolverError naming the call.
 inline void check(PetscErrorCode ierr, const char* what) {
   if (ierr != 0)
-    throw SolverError(std::string("PETSc call failed: ") + what);
+    throw SolverError(std::string("PETSc call failed: ") + what + " (" + petsc_error_text(ierr) +
+                      ")");
 }
 #define TF_PETSC(call) ::tearflow::fem::check((call), #call)
 

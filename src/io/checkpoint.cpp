@@ -10,7 +10,8 @@
 namespace tearflow::io {
 
 namespace {
-constexpr char magic[8] = {'T', 'F', 'C', 'K', 'P', 'T', '0', '1'};
+constexpr char magic[8] = {'T', 'F', 'C', 'K', 'P', 'T', '0', '2'};
+constexpr char magic_01[8] = {'T', 'F', 'C', 'K', 'P', 'T', '0', '1'}; // before exact_operator
 
 template <typename T> void put(std::ofstream& out, const T& v) {
   out.write(reinterpret_cast<const char*>(&v), sizeof(T));
@@ -46,6 +47,7 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint& c) {
     put_vector(out, c.solution);
     put_vector(out, c.derivative);
     put_vector(out, c.extra);
+    put(out, static_cast<std::int32_t>(c.exact_operator));
     out.flush();
     if (!out)
       input_error("cannot write checkpoint '{}'", tmp.string());
@@ -58,7 +60,10 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   if (!in)
     input_error("no checkpoint '{}' to restart from", file.string());
   char m[8];
-  if (!in.read(m, sizeof m) || std::memcmp(m, magic, sizeof m) != 0)
+  if (!in.read(m, sizeof m))
+    input_error("'{}' is not a tearflow checkpoint", file.string());
+  const bool version_01 = std::memcmp(m, magic_01, sizeof m) == 0;
+  if (!version_01 && std::memcmp(m, magic, sizeof m) != 0)
     input_error("'{}' is not a tearflow checkpoint", file.string());
   Checkpoint c;
   get(in, c.step, file);
@@ -68,6 +73,11 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   get_vector(in, c.solution, file);
   get_vector(in, c.derivative, file);
   get_vector(in, c.extra, file);
+  if (!version_01) {
+    std::int32_t exact_operator = 0;
+    get(in, exact_operator, file);
+    c.exact_operator = exact_operator != 0;
+  }
   if (c.solution.size() != static_cast<size_t>(c.num_nodes * c.block) ||
       c.derivative.size() != c.solution.size())
     input_error("checkpoint '{}' is inconsistent", file.string());

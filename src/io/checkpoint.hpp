@@ -1,7 +1,8 @@
 #pragma once
 // Checkpoints: the complete state needed to continue a run bit for bit: step number, time
 // and the nodal unknowns and their time derivatives in the input mesh's node order, plus
-// any extra scalar state (0D models). Written through a temporary file and a rename.
+// any extra scalar state (0D models), and the Newton method reached. Written through a
+// temporary file and a rename. Version 01 files (without the method) still read.
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -16,6 +17,9 @@ struct Checkpoint {
   std::vector<double> solution;   ///< num_nodes * block
   std::vector<double> derivative; ///< num_nodes * block
   std::vector<double> extra;      ///< scalar states of 0D models
+  /// Newton had switched to the exact operator (FSI, physics/fluid_solver.hpp): the restarted
+  /// run goes on with it, as the uninterrupted one would.
+  bool exact_operator = false;
 };
 
 void write_checkpoint(const std::filesystem::path& file, const Checkpoint& c);

@@ -9,17 +9,9 @@
 #include "io/case.hpp"
 #include "physics/callback_error.hpp"
 #include "physics/fluid_problem.hpp"
+#include "physics/step_report.hpp"
 
 namespace tearflow::physics {
-
-struct StepReport {
-  int newton_iterations = 0;
-  int linear_iterations = 0;
-  double residual_initial = 0.0; ///< ||R|| at the step's initial guess
-  double residual_final = 0.0;
-  double assembly_seconds = 0.0; ///< residual and Jacobian assembly
-  double solve_seconds = 0.0;    ///< everything else in the Newton loop (mostly KSP)
-};
 
 /// Problem: FluidProblem (options prefix `fluid_`) or FsiProblem (`fsi_`); it provides
 /// dofs, begin_step, apply_dirichlet, residual, jacobian, the coupled outlets,
@@ -36,6 +28,12 @@ public:
   /// appears; the state is then left at time t.
   StepReport step(double t, double dt);
 
+  /// FSI: whether Newton uses the exact operator (after a stalled step, or by
+  /// -fsi_snes_mf_operator), and switching to it, so a restart continues with the method
+  /// the run had reached (fluid_solver.cpp).
+  bool uses_exact_operator() const;
+  void use_exact_operator();
+
 private:
   static PetscErrorCode form_residual(SNES, Vec U, Vec R, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec U, Mat J, Mat P, void* ctx);
@@ -44,6 +42,7 @@ private:
   Problem& problem_;
   fem::OwnedVec U_, Udot_, U_prev_, R_;
   fem::OwnedMat P_, J_;
+  fem::OwnedMat exact_operator_; ///< finite-difference operator, once a step needed it
   fem::OwnedSNES snes_;
   bool has_coupled_outlets_ = false;
   double assembly_seconds_ = 0.0;

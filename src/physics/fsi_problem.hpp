@@ -18,7 +18,8 @@
 // fluid. The mesh is moved at every residual evaluation, so the converged state satisfies
 // the full nonlinear system; the Jacobian leaves out the shape derivatives (the fluid's
 // dependence on the mesh position), a quasi-Newton method as in svFSI, which converges in a
-// few more iterations when the wall moves little per step.
+// few more iterations when the wall moves little per step. Where it stalls, the Newton
+// stepper falls back to the exact operator by finite differences (fluid_solver.cpp).
 #include <memory>
 #include <vector>
 
@@ -57,6 +58,9 @@ public:
   void apply_dirichlet(Vec U) const;
   void residual(Vec U, Vec R);
   void jacobian(Vec U, Mat J);
+  /// The Jacobian leaves out the shape derivatives (file comment) when the mesh moves: the
+  /// stepper then retries a failed step with the exact operator (fluid_solver.hpp).
+  bool jacobian_is_approximate() const { return moving_mesh_; }
   bool has_coupled_outlets() const { return fluid_.has_coupled_outlets(); }
   void add_coupled_outlets(Vec x, Vec y) const { fluid_.add_coupled_outlets(x, y); }
   /// Acceleration and displacement at t_{n+1} from the converged U_{n+1}.

@@ -1,6 +1,5 @@
 #include "physics/solid_solver.hpp"
 
-#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -140,34 +139,17 @@ StepReport SolidSolver::step(double t, double dt) {
   TF_PETSC(VecCopy(U_, U_prev_));
   problem_.apply_dirichlet(U_);
 
-  StepReport report;
   const PetscErrorCode err = SNESSolve(snes_, nullptr, U_);
   SNESConvergedReason reason;
   SNESGetConvergedReason(snes_, &reason);
-  PetscInt its = 0, lits = 0;
-  SNESGetIterationNumber(snes_, &its);
-  SNESGetLinearSolveIterations(snes_, &lits);
-  PetscReal fnorm = 0.0;
-  SNESGetFunctionNorm(snes_, &fnorm);
-  PetscReal* history = nullptr;
-  PetscInt history_length = 0;
-  SNESGetConvergenceHistory(snes_, &history, nullptr, &history_length);
-  if (history_length > 0)
-    report.residual_initial = history[0];
-  report.newton_iterations = static_cast<int>(its);
-  report.linear_iterations = static_cast<int>(lits);
-  report.residual_final = fnorm;
-  report.assembly_seconds = assembly_seconds_;
-  report.solve_seconds = MPI_Wtime() - start - assembly_seconds_;
-
-  if (err != 0 || reason < 0 || !std::isfinite(fnorm)) {
+  const StepReport report = read_step_report(snes_, start, assembly_seconds_);
+  if (const std::string why = newton_failure(err, callback_error_, reason, report.residual_final);
+      !why.empty()) {
     TF_PETSC(VecCopy(U_prev_, U_)); // D and A are still t's
-    const std::string why = !callback_error_.message.empty() ? callback_error_.message
-                            : !std::isfinite(fnorm) ? std::string("residual is not a number")
-                                                    : SNESConvergedReasons[reason];
     throw SolverError(fmt::format("solid: Newton failed in the step from t = {:.6g} s to {:.6g} s "
                                   "after {} iterations (residual {:.3e}, initial {:.3e}): {}",
-                                  t, t + dt, its, fnorm, report.residual_initial, why),
+                                  t, t + dt, report.newton_iterations, report.residual_final,
+                                  report.residual_initial, why),
                       err == 0 || callback_error_.collective); // as the fluid's (fluid_solver.cpp)
   }
   problem_.update_state(U_, D_, A_);

@@ -284,6 +284,8 @@ RunSummary Simulation::run(const RunOptions& options) {
                   checkpoint_file.string(), c.num_nodes, c.block, mesh_.num_nodes(), block());
     set_state(static_cast<int>(c.step), c.solution, c.derivative);
     set_outlet_checkpoint(c.extra, checkpoint_file);
+    if (c.exact_operator) // the method the run had switched to (fluid_solver.cpp)
+      fsi_ ? fsi_solver_->use_exact_operator() : solver_->use_exact_operator();
     if (options.write_output) {
       record.load_csv(faces_csv, step_); // every rank: all must agree on periodicity
       if (root) {
@@ -292,8 +294,8 @@ RunSummary Simulation::run(const RunOptions& options) {
       }
     }
     if (root && options.progress)
-      fmt::print("restarting from step {} (t = {:.6g} s) of '{}'\n", step_, time(),
-                 checkpoint_file.string());
+      fmt::print("restarting from step {} (t = {:.6g} s) of '{}'{}\n", step_, time(),
+                 checkpoint_file.string(), c.exact_operator ? ", with the exact operator" : "");
   } else {
     if (options.write_output)
       write_frame();
@@ -316,6 +318,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     c.solution = gather(solution());
     c.derivative = gather(acceleration());
     c.extra = outlet_checkpoint();
+    c.exact_operator = fsi_ ? fsi_solver_->uses_exact_operator() : solver_->uses_exact_operator();
     if (root)
       io::write_checkpoint(checkpoint_file, c);
   };
