@@ -37,9 +37,9 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& ne
   R_ = dofs.create_global();
   P_ = dofs.create_matrix(Problem::options_prefix);
 
-  has_coupled_outlets_ = problem.has_coupled_outlets();
+  const bool coupled_outlets = problem.has_coupled_outlets();
   MPI_Comm comm = dofs.mesh().comm();
-  if (has_coupled_outlets_) {
+  if (coupled_outlets) {
     const PetscInt n = dofs.num_owned_dofs();
     TF_PETSC(MatCreateShell(comm, n, n, PETSC_DETERMINE, PETSC_DETERMINE, this, J_.out()));
     TF_PETSC(MatShellSetOperation(J_, MATOP_MULT, (void (*)(void))shell_mult));
@@ -48,8 +48,7 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& ne
   TF_PETSC(SNESCreate(comm, snes_.out()));
   TF_PETSC(SNESSetOptionsPrefix(snes_, Problem::options_prefix));
   TF_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
-  TF_PETSC(
-      SNESSetJacobian(snes_, has_coupled_outlets_ ? J_.get() : P_.get(), P_, form_jacobian, this));
+  TF_PETSC(SNESSetJacobian(snes_, coupled_outlets ? J_.get() : P_.get(), P_, form_jacobian, this));
   TF_PETSC(SNESSetType(snes_, SNESNEWTONLS));
   SNESLineSearch ls;
   TF_PETSC(SNESGetLineSearch(snes_, &ls));
@@ -146,13 +145,11 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   TF_PETSC(SNESGetLagPreconditioner(snes_, &lag));
   // Solves the step again from U_n with a freshly built preconditioner; the failed attempt's
   // iterations still count in the report (they were spent).
-  PetscInt spent_its = 0, spent_lits = 0;
+  int spent_its = 0, spent_lits = 0;
   auto solve_again = [&] {
-    PetscInt its = 0, lits = 0;
-    SNESGetIterationNumber(snes_, &its);
-    SNESGetLinearSolveIterations(snes_, &lits);
-    spent_its += its;
-    spent_lits += lits;
+    const StepReport failed = read_step_report(snes_, start, assembly_seconds_);
+    spent_its += failed.newton_iterations;
+    spent_lits += failed.linear_iterations;
     TF_PETSC(VecCopy(U_prev_, U_));
     problem_.apply_dirichlet(U_);
     TF_PETSC(SNESSetLagPreconditioner(snes_, -2)); // rebuild at the next Jacobian
@@ -185,8 +182,8 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
     }
   }
   StepReport report = read_step_report(snes_, start, assembly_seconds_);
-  report.newton_iterations += static_cast<int>(spent_its);
-  report.linear_iterations += static_cast<int>(spent_lits);
+  report.newton_iterations += spent_its;
+  report.linear_iterations += spent_lits;
   if (const std::string why = newton_failure(err, callback_error_, reason, report.residual_final);
       !why.empty()) {
     TF_PETSC(VecCopy(U_prev_, U_)); // leave the last good state in place

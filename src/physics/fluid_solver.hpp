@@ -44,7 +44,6 @@ private:
   fem::OwnedMat P_, J_;
   fem::OwnedMat exact_operator_; ///< finite-difference operator, once a step needed it
   fem::OwnedSNES snes_;
-  bool has_coupled_outlets_ = false;
   double assembly_seconds_ = 0.0;
   CallbackError callback_error_;
   std::array<PetscReal, 64> residual_history_{}; ///< ||R|| per Newton iteration, from SNES
