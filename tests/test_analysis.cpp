@@ -125,7 +125,7 @@ TEST(Analysis, RigidPipeRecoversFlowAreaAndPressure) {
   std::getline(csv, header);
   EXPECT_EQ(header, "time_s,flow_m3_per_s,flow_mL_per_s,area_m2,area_mm2,area_over_A_0,"
                     "mean_pressure_Pa,mean_pressure_mmHg,max_through_plane_velocity_m_per_s,"
-                    "wall_displacement_mm");
+                    "wall_displacement_mm,flow_interpolated_m3_per_s");
   int rows = 0;
   for (std::string line; std::getline(csv, line);)
     ++rows;

@@ -25,6 +25,9 @@ AnalyzeCommand::AnalyzeCommand(CLI::App& app) {
                    "cycle needed)")
       ->check(CLI::IsMember({"cycle", "all"}));
   command_->add_option("-o,--output", output_, "output directory (default RUN_DIR/analysis)");
+  command_->add_option("--case", case_file_,
+                       "the run's case file: its fluid and time step give the conservative "
+                       "flux (default: tuned.yaml or case.yaml beside RUN_DIR writing to it)");
   command_->add_flag("-q,--quiet", quiet_, "no summary lines");
 }
 
@@ -35,6 +38,7 @@ int AnalyzeCommand::run() const {
   if (cycle_ > 0)
     o.cycle = cycle_;
   o.all_frames = frames_ == "all";
+  o.case_file = case_file_;
   if (o.all_frames && o.cycle)
     input_error("analyze: --cycle and --frames all exclude each other");
   o.output = output_.empty() ? o.run_dir / "analysis" : std::filesystem::path(output_);

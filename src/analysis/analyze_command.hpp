@@ -16,7 +16,7 @@ public:
 
 private:
   CLI::App* command_ = nullptr;
-  std::string run_dir_, landmarks_, frames_ = "cycle", output_;
+  std::string run_dir_, landmarks_, frames_ = "cycle", output_, case_file_;
   int cycle_ = 0;
   bool quiet_ = false;
 };

@@ -30,6 +30,8 @@ struct AnalyzeOptions {
   std::optional<int> cycle;        ///< as numbered in cycles.json; none: the last complete one
   bool all_frames = false;         ///< every saved frame, no complete cycle needed
   std::filesystem::path output;    ///< empty: RUN_DIR/analysis
+  /// The run's case, for the conservative flux (analysis/run_form.hpp); empty: looked for
+  std::filesystem::path case_file;
 };
 
 /// One landmark's section values over the frames.
@@ -41,7 +43,10 @@ struct LandmarkSeries {
 struct Analysis {
   std::string source = "simulation"; ///< or "measured" (analysis/measured_data.hpp)
   std::string frames;                ///< what was analysed, e.g. "cycle 3" or "all saved frames"
-  std::vector<double> time;          ///< per frame [s]
+  /// How Q was measured: "conservative" (the solver's conserved flux), "plane_integral" (of
+  /// the interpolated velocity; the run's case was not found) or "measured".
+  std::string flow_method = "measured";
+  std::vector<double> time; ///< per frame [s]
   std::vector<LandmarkSeries> series;
   std::size_t peak_systole = 0; ///< frame index
   std::size_t end_diastole = 0; ///< frame index (the first)

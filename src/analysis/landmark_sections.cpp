@@ -1,5 +1,6 @@
 #include "analysis/landmark_sections.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -50,6 +51,18 @@ Vec3 unit(const Vec3& v) {
 struct PlaneSection {
   vtkSmartPointer<vtkPointSet> regions; // cell and point data "RegionId"
   vtkSmartPointer<vtkCellLocator> locator;
+  vtkIdType region_count = 0;
+  std::vector<double> conservative_flow; // per region, when the continuity form is known
+
+  /// The region of the section cell nearest to `p`, and the distance to it.
+  std::pair<vtkIdType, double> region_at(const Vec3& p) const {
+    double closest[3], dist2 = 0;
+    vtkIdType cell = -1;
+    int sub = 0;
+    locator->FindClosestPoint(p.data(), closest, cell, sub, dist2);
+    return {static_cast<vtkIdType>(regions->GetCellData()->GetArray(kRegion)->GetTuple1(cell)),
+            std::sqrt(dist2)};
+  }
 };
 
 PlaneSection cut(vtkUnstructuredGrid* grid, const Vec3& origin, const Vec3& normal) {
@@ -100,6 +113,7 @@ PlaneSection cut(vtkUnstructuredGrid* grid, const Vec3& origin, const Vec3& norm
   connectivity->ColorRegionsOn();
   connectivity->Update();
   s.regions = connectivity->GetOutput();
+  s.region_count = connectivity->GetNumberOfExtractedRegions();
   s.locator = vtkSmartPointer<vtkCellLocator>::New();
   s.locator->SetDataSet(s.regions);
   s.locator->BuildLocator();
@@ -228,7 +242,8 @@ vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path
 
 std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
                                              const geometry::Landmarks& landmarks,
-                                             const std::string& frame) {
+                                             const std::string& frame, const FrameRates& rates,
+                                             const ContinuityForm* form) {
   std::vector<SectionValues> values;
   PlaneSection section;
   int section_id = -1; // TLk and FLk share one plane: cut it once
@@ -246,6 +261,10 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
       ++section_id;
       cut_origin = l.origin;
       cut_normal = n;
+      if (section.regions && form != nullptr)
+        section.conservative_flow = conservative_fluxes(
+            grid, l.origin, n, [&](const Vec3& p) { return section.region_at(p).first; },
+            section.region_count, rates, *form);
     }
     if (!section.regions)
       input_error("{}: the plane of landmark '{}' (origin ({:.2f}, {:.2f}, {:.2f}) mm) misses "
@@ -254,18 +273,16 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
                   l.origin[2] / units::mm);
     const Vec3 p = l.point.value_or(l.origin);
     const Vec3 q = p - dot(p - l.origin, n) * n; // rounding may lift it off the plane
-    double closest[3], dist2 = 0;
-    vtkIdType cell = -1;
-    int sub = 0;
-    section.locator->FindClosestPoint(q.data(), closest, cell, sub, dist2);
-    const vtkIdType region =
-        static_cast<vtkIdType>(section.regions->GetCellData()->GetArray(kRegion)->GetTuple1(cell));
-    const SectionValues v = integrate(section.regions, region);
-    if (std::sqrt(dist2) > kPointSlack * std::sqrt(v.area / M_PI))
+    const auto [region, distance] = section.region_at(q);
+    SectionValues v = integrate(section.regions, region);
+    if (distance > kPointSlack * std::sqrt(v.area / M_PI))
       input_error("{}: landmark '{}': its lumen point ({:.2f}, {:.2f}, {:.2f}) mm is not inside "
                   "the fluid section of its plane (nearest fluid {:.2f} mm away)",
                   frame, l.name, q[0] / units::mm, q[1] / units::mm, q[2] / units::mm,
-                  std::sqrt(dist2) / units::mm);
+                  distance / units::mm);
+    v.flow_interpolated = v.flow;
+    if (!section.conservative_flow.empty())
+      v.flow = section.conservative_flow[static_cast<std::size_t>(region)];
     if (const int k = station_of(l); k > 0)
       stations[k][l.lumen] = {section_id, region};
     values.push_back(v);

@@ -13,12 +13,14 @@
 // point (the landmark's `point`, else its origin), projected onto the plane, picks the
 // region that contains it. The two landmarks of a paired station TLk / FLk must pick two
 // different regions.
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include <vtkSmartPointer.h>
 
+#include "analysis/conservative_flux.hpp"
 #include "geometry/landmarks.hpp"
 
 class vtkUnstructuredGrid;
@@ -42,20 +44,23 @@ vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path
 
 /// The integrals over one landmark's lumen section, SI.
 struct SectionValues {
-  double flow = 0.0;              ///< Q = int u.n dA [m^3/s]
-  double area = 0.0;              ///< A [m^2]
-  double pressure = 0.0;          ///< area-mean pressure [Pa]
-  double max_velocity = 0.0;      ///< largest through-plane velocity u.n [m/s]
-  double wall_displacement = 0.0; ///< largest |displacement| on the section (its rim) [m]
+  double flow = 0.0;                       ///< Q [m^3/s]: the conservative flux, else int u.n dA
+  double flow_interpolated = std::nan(""); ///< int u.n dA of the P1 velocity [m^3/s]
+  double area = 0.0;                       ///< A [m^2]
+  double pressure = 0.0;                   ///< area-mean pressure [Pa]
+  double max_velocity = 0.0;               ///< largest through-plane velocity u.n [m/s]
+  double wall_displacement = 0.0;          ///< largest |displacement| on the section (its rim) [m]
 };
 
-/// The section values of every landmark in `landmarks.planes` (same order) on `grid`.
-/// InputError naming the landmark and `frame` when a plane misses the fluid, when a lumen
-/// point is not in the plane's fluid section, or when the TLk and FLk points of a station
-/// fall in one connected region.
+/// The section values of every landmark in `landmarks.planes` (same order) on `grid`; with
+/// the run's continuity form, `flow` is the conservative flux (analysis/conservative_flux.hpp)
+/// of the landmark's region, else the plane integral. InputError naming the landmark and
+/// `frame` when a plane misses the fluid, when a lumen point is not in the plane's fluid
+/// section, or when the TLk and FLk points of a station fall in one connected region.
 std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
                                              const geometry::Landmarks& landmarks,
-                                             const std::string& frame);
+                                             const std::string& frame, const FrameRates& rates = {},
+                                             const ContinuityForm* form = nullptr);
 
 /// The station number k of a paired landmark "TLk" / "FLk" (0 for other names).
 int station_of(const geometry::Landmark& landmark);
