@@ -1,5 +1,5 @@
 // tearflow: the command-line program.
-//   tearflow run [CASE.yaml] [--restart] [-o DIR] [--steps N] [-- PETSc options]
+//   tearflow run [CASE.yaml] [--restart] [-o DIR] [--steps N] [--targets T.yaml] [-- PETSc]
 //   tearflow verify NAME [--convergence] | --list
 //   tearflow geometry tbad|import|report ...   (docs/geometry.md)
 //   tearflow tune CASE.yaml --targets TARGETS.yaml [-o TUNED.yaml]   (docs/tuning.md)
@@ -31,6 +31,8 @@
 #include "run/simulation.hpp"
 #include "run/solid_simulation.hpp"
 #include "study/study_command.hpp"
+#include "tuning/corrected_run.hpp"
+#include "tuning/targets.hpp"
 #include "tuning/tune_command.hpp"
 #include "verify/verification.hpp"
 
@@ -39,7 +41,7 @@ using namespace tearflow;
 namespace {
 
 int run_command(const std::string& case_file, bool restart, const std::string& output, bool quiet,
-                const std::string& cli_petsc, int steps) {
+                const std::string& cli_petsc, int steps, const std::string& targets_file) {
   io::Case c = case_file.empty() ? run::default_case() : io::load_case(case_file);
   if (steps > 0)
     c.time.steps = steps;
@@ -52,11 +54,24 @@ int run_command(const std::string& case_file, bool restart, const std::string& o
   if (root && !quiet)
     fmt::print("tearflow run '{}': {} steps of {} s, output in '{}'\n", c.name, c.time.steps,
                c.time.step, c.output.directory.string());
+  if (!targets_file.empty()) { // outlets corrected at cycle ends (tuning/corrected_run.hpp)
+    if (case_file.empty() || (c.solid && c.boundary_conditions.empty()))
+      input_error("--targets needs a flow case with RCR outlets (docs/tuning.md)");
+    const tuning::CorrectedRun r =
+        tuning::run_corrected(c, case_file, tuning::load_targets(targets_file), targets_file,
+                              {restart, !quiet, true, {}});
+    if (root && !quiet)
+      fmt::print("done: {} steps in {:.1f} s, targets {} by the last cycle; results and the "
+                 "tuned case in '{}'\n",
+                 r.summary.steps, r.summary.wall_seconds, r.met ? "met" : "NOT met",
+                 c.output.directory.string());
+    return 0;
+  }
   auto execute = [&](auto& sim) {
     if (root && !quiet)
       fmt::print("mesh: {} nodes, {} tets on {} rank(s)\n", sim.mesh().num_nodes(),
                  sim.mesh().num_tets(), fem::mpi_size());
-    const run::RunSummary s = sim.run({restart, !quiet, true});
+    const run::RunSummary s = sim.run({restart, !quiet, true, {}});
     if (root && !quiet)
       fmt::print("done: {} steps in {:.1f} s; results in '{}'\n", s.steps, s.wall_seconds,
                  sim.config().output.directory.string());
@@ -147,7 +162,7 @@ int main(int argc, char** argv) {
 
   CLI::App app{"tearflow: blood flow and pressure in type B aortic dissection"};
   app.require_subcommand(1);
-  std::string case_file, output, verify_name;
+  std::string case_file, output, verify_name, targets_file;
   bool restart = false, quiet = false, list = false;
   int steps = 0;
   verify::VerifyOptions verify_options;
@@ -158,6 +173,9 @@ int main(int argc, char** argv) {
   run->add_flag("-q,--quiet", quiet, "no progress lines");
   run->add_option("--steps", steps, "stop at this step (overrides time.steps and cycles)")
       ->check(CLI::PositiveNumber);
+  run->add_option("--targets", targets_file,
+                  "correct the RCR outlets at every cycle's end until a periodic cycle meets "
+                  "these targets (docs/tuning.md)");
   auto* verify = app.add_subcommand("verify", "run a built-in verification case, print JSON");
   verify->add_option("name", verify_name, "case name (see --list)");
   verify->add_flag("--list", list, "list the verification cases");
@@ -183,7 +201,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(static_cast<int>(ours.size()), ours.data());
     if (*run)
-      code = run_command(case_file, restart, output, quiet, cli_petsc, steps);
+      code = run_command(case_file, restart, output, quiet, cli_petsc, steps, targets_file);
     if (*verify) {
       code = verify_command(verify_name, list, verify_options);
       all_ranks_stopped = true; // the same code on every rank

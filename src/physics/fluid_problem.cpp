@@ -192,6 +192,13 @@ std::vector<FluidProblem::OutletState> FluidProblem::outlet_states() const {
   return s;
 }
 
+void FluidProblem::set_outlet_rcr(size_t i, const bc::WindkesselRCR& rcr) {
+  if (i >= outlets_.size() || !outlets_[i].spec.rcr)
+    throw std::logic_error("set_outlet_rcr: outlet " + std::to_string(i) + " is no RCR outlet");
+  outlets_[i].spec.rcr = rcr;
+  conditions_.outlets[i].rcr = rcr;
+}
+
 void FluidProblem::set_outlet_states(const std::vector<OutletState>& states) {
   if (states.size() != outlets_.size())
     input_error("{} outlet states given for {} outlets", states.size(), outlets_.size());

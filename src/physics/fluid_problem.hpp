@@ -87,6 +87,9 @@ public:
   };
   std::vector<OutletState> outlet_states() const;
   void set_outlet_states(const std::vector<OutletState>& states);
+  /// Replaces the RCR of outlet i (in the order of conditions().outlets) from the next step
+  /// on; its 0D state stays (in-run tuning, tuning/corrected_run.hpp).
+  void set_outlet_rcr(size_t i, const bc::WindkesselRCR& rcr);
   const bc::FluidConditions& conditions() const { return conditions_; }
 
   /// Per face of the fluid (wall-only faces of an FSI mesh left out), in mesh order.

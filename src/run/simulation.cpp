@@ -196,6 +196,23 @@ StepSample Simulation::sample() const {
   return s;
 }
 
+void Simulation::set_outlets(const std::vector<bc::WindkesselBranch>& outlets) {
+  physics::FluidProblem& problem = fluid();
+  const auto& specs = problem.conditions().outlets;
+  for (const bc::WindkesselBranch& w : outlets) {
+    const auto it = std::find_if(specs.begin(), specs.end(),
+                                 [&](const bc::TractionOutlet& o) { return o.face == w.name; });
+    if (it == specs.end() || !it->rcr)
+      throw std::logic_error("set_outlets: '" + w.name + "' is no RCR outlet of the case");
+    bc::WindkesselRCR rcr = w.rcr;
+    rcr.reference_pressure = it->rcr->reference_pressure;
+    problem.set_outlet_rcr(static_cast<size_t>(it - specs.begin()), rcr);
+    for (io::BoundaryCondition& b : case_.boundary_conditions)
+      if (b.face == w.name)
+        b.rcr = rcr;
+  }
+}
+
 Simulation::~Simulation() = default;
 
 physics::StepReport Simulation::advance() {
@@ -349,6 +366,8 @@ RunSummary Simulation::run(const RunOptions& options) {
                  *cycle->change < case_.time.periodicity_tolerance;
       if (root && options.progress)
         report_cycle(*cycle, periodic);
+      if (options.on_cycle)
+        periodic = options.on_cycle(*cycle, periodic); // "periodic" now: the run stops
     }
     if (options.write_output) {
       const bool last = step_ == total || periodic;

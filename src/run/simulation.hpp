@@ -2,9 +2,11 @@
 // One simulation from a validated case: case -> mesh -> partition -> physics -> solver ->
 // outputs. `run` is what `tearflow run` does; verification drivers use `advance` and the
 // accessors to compare the state with analytic solutions.
+#include <functional>
 #include <memory>
 #include <vector>
 
+#include "bc/windkessel_network.hpp"
 #include "fem/distributed_mesh.hpp"
 #include "io/case.hpp"
 #include "physics/fluid_solver.hpp"
@@ -16,6 +18,10 @@ struct RunOptions {
   bool restart = false; ///< continue from the output directory's checkpoint
   bool progress = true; ///< one progress line per step on stdout
   bool write_output = true;
+  /// Called at the end of every cycle with its statistics and whether it is periodic by the
+  /// case's tolerance, before the cycle's last frame and checkpoint are written; returns
+  /// whether the run stops there. Without it the run stops when periodic.
+  std::function<bool(const analysis::CycleStats&, bool periodic)> on_cycle;
 };
 
 struct RunSummary {
@@ -58,6 +64,10 @@ public:
 
   /// The face measures of the current state (collective).
   StepSample sample() const;
+
+  /// Replaces the RCRs of the named outlets from the next step on (in-run tuning); every
+  /// name must be an RCR outlet of the case.
+  void set_outlets(const std::vector<bc::WindkesselBranch>& outlets);
 
 private:
   void start_from_0d();

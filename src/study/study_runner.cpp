@@ -77,12 +77,22 @@ std::filesystem::path StudyRunner::geometry_dir(const Variant& v) const {
   return v.model ? *v.model : dir(v) / "geometry";
 }
 
+namespace {
+
+/// Targets whose 3D corrections happen in the run itself (tuning/corrected_run.hpp): the run
+/// stage tunes, no tune stage.
+bool tuned_in_run(const Variant& v) {
+  return given(v.targets) && v.targets["in_run"] && v.targets["in_run"].as<std::string>() == "true";
+}
+
+} // namespace
+
 std::vector<StudyRunner::Stage> StudyRunner::stages() const {
   std::vector<Stage> out;
   for (const Variant& v : spec_.variants) {
     if (!v.model)
       out.push_back({&v, "geometry"});
-    if (given(v.targets))
+    if (given(v.targets) && !tuned_in_run(v))
       out.push_back({&v, "tune"});
     out.push_back({&v, "run"});
     out.push_back({&v, "analyze"});
@@ -194,8 +204,12 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
     return parallel;
   }
   if (s.name == "run") {
-    parallel.insert(parallel.end(),
-                    {"run", (dir(v) / (given(v.targets) ? "tuned.yaml" : "case.yaml")).string()});
+    if (tuned_in_run(v))
+      parallel.insert(parallel.end(), {"run", (dir(v) / "case.yaml").string(), "--targets",
+                                       (dir(v) / "targets.yaml").string()});
+    else
+      parallel.insert(parallel.end(),
+                      {"run", (dir(v) / (given(v.targets) ? "tuned.yaml" : "case.yaml")).string()});
     if (std::filesystem::exists(dir(v) / "run" / "checkpoint.bin"))
       parallel.push_back("--restart"); // an interrupted run continues
     return parallel;
@@ -320,9 +334,20 @@ void StudyRunner::write_summary() const {
         if (metrics.contains(key))
           entry[key] = metrics[key];
     }
-    const json tuning = read_json(dir(v) / "tuned.tuning.json");
-    if (tuning.is_object())
+    const json tuning =
+        read_json(dir(v) / (tuned_in_run(v) ? "run/tuning.json" : "tuned.tuning.json"));
+    if (tuning.is_object()) {
       entry["tuning"] = tuning;
+      entry["tuning"].erase("run_state"); // the restart's copy of the steps
+    }
+    // What ran: the wall model and the cycles with their change from the previous one.
+    entry["wall"] = io::parse_yaml_file(dir(v) / "case.yaml")["solid"] ? "fsi" : "rigid";
+    const json cycles = read_json(dir(v) / "run" / "cycles.json");
+    if (cycles.is_object() && cycles.contains("cycles")) {
+      entry["cycles_run"] = cycles["cycles"].size();
+      if (!cycles["cycles"].empty())
+        entry["periodicity_last_change"] = cycles["cycles"].back()["change_from_previous"];
+    }
     variants[v.name] = entry;
   }
   io::write_file_atomically(

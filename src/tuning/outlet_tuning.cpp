@@ -77,24 +77,10 @@ void measure_3d(const io::Case& c, const std::string& inlet, const TuningTargets
   run_case.time.steps = t.cycles * c.time.steps_per_cycle;
   run_case.time.periodicity_tolerance = 0.0;
   run::Simulation sim(run_case);
-  const run::RunSummary summary = sim.run({false, false, false});
+  const run::RunSummary summary = sim.run({false, false, false, {}});
   if (summary.cycles.empty())
     throw std::logic_error("the 3D run completed no cycle");
-  const analysis::CycleStats& last = summary.cycles.back();
-  const double period = last.t_end - last.t_begin;
-  s.split_percent.assign(t.splits.size(), NAN);
-  s.outlet_pressure.assign(t.splits.size(), NAN);
-  s.outlet_flow.assign(t.splits.size(), NAN);
-  for (const analysis::FaceCycleStats& f : last.faces) {
-    if (f.face == inlet)
-      s.achieved = {f.systolic, f.diastolic, f.mean};
-    for (size_t i = 0; i < t.splits.size(); ++i)
-      if (f.face == t.splits[i].face) {
-        s.split_percent[i] = f.split_percent.value_or(NAN);
-        s.outlet_pressure[i] = f.mean;
-        s.outlet_flow[i] = f.volume / period;
-      }
-  }
+  measure_cycle(summary.cycles.back(), inlet, t, s);
 }
 
 /// The 3D domain's resistance seen in a run (its cycle means): shared, in series with all
@@ -114,6 +100,8 @@ DomainResistance measured_domain(const TuningStep& s, bool per_outlet) {
   return d;
 }
 
+} // namespace
+
 void print_step(const TuningStep& s) {
   std::string domain;
   if (!s.domain.branch.empty())
@@ -128,8 +116,6 @@ void print_step(const TuningStep& s) {
              100.0 * s.pressure_error, s.split_error);
   std::fflush(stdout);
 }
-
-} // namespace
 
 io::Case with_outlets(io::Case c, const std::vector<bc::WindkesselBranch>& rcr) {
   for (io::BoundaryCondition& b : c.boundary_conditions)
@@ -148,10 +134,93 @@ io::Case with_outlets(io::Case c, const TuningTargets& t, const WindkesselTotals
   return with_outlets(std::move(c), distribute(totals, fractions(t, distribution)));
 }
 
+OutletCorrection::OutletCorrection(const io::Case& c, TuningTargets targets)
+    : targets_(std::move(targets)), inflow_(single_inflow(c).flow), inlet_(single_inflow(c).face) {
+  check_outlets(c, targets_);
+  for (const OutletFraction& o : targets_.splits)
+    f_.push_back(o.fraction);
+  domain_ = {targets_.domain_resistance, {}};
+  if (targets_.per_outlet)
+    domain_.branch.assign(f_.size(), 0.0);
+}
+
+TuningStep OutletCorrection::plan(int iteration, const WindkesselTotals* previous) const {
+  const InletPressures aim{targets_.pressure.systolic * defect_[0],
+                           targets_.pressure.diastolic * defect_[1],
+                           targets_.pressure.mean * defect_[2]};
+  // From the last fit: the aims move little between iterations.
+  const FitResult fit = fit_windkessel_totals(aim, inflow_, fractions(targets_, f_), domain_,
+                                              previous ? *previous : WindkesselTotals{});
+  TuningStep s;
+  s.iteration = iteration;
+  s.totals = fit.totals;
+  s.distribution = f_;
+  s.domain = domain_;
+  s.outlets = distribute(fit.totals, fractions(targets_, f_), domain_);
+  if (iteration == 0) { // the 0D stage's own prediction
+    s.achieved = fit.achieved;
+    const bc::PeriodicState st = zero_d_model(s.outlets, domain_).periodic(inflow_);
+    double total = 0.0;
+    for (size_t i = 0; i < f_.size(); ++i)
+      total += st.mean_branch_flow(i);
+    for (size_t i = 0; i < f_.size(); ++i)
+      s.split_percent.push_back(100.0 * st.mean_branch_flow(i) / total);
+  }
+  return s;
+}
+
+bool OutletCorrection::score(TuningStep& s) const {
+  tuning::score(s, targets_);
+  return s.pressure_error <= targets_.pressure_tolerance &&
+         s.split_error <= targets_.split_tolerance;
+}
+
+void OutletCorrection::learn(const TuningStep& s) {
+  if (!(std::isfinite(s.pressure_error) && std::isfinite(s.split_error)))
+    throw SolverError(fmt::format("tuning: the 3D run of iteration {} gave no finite inlet "
+                                  "pressures or splits",
+                                  s.iteration));
+  // (a) The 0D model takes the domain's resistance as the run measured it.
+  if (targets_.correct_domain)
+    domain_ = measured_domain(s, targets_.per_outlet);
+  // (b) What the corrected model of the outlets that ran still misses rescales the aims.
+  const InletPressures p0 = inlet_pressures(zero_d_model(s.outlets, domain_).periodic(inflow_));
+  defect_ = {p0.systolic / s.achieved.systolic, p0.diastolic / s.achieved.diastolic,
+             p0.mean / s.achieved.mean};
+  // (c) Shared parameters: the distribution follows the splits' misfit.
+  f_ = s.distribution;
+  if (targets_.per_outlet)
+    return;
+  double sum = 0.0;
+  for (size_t i = 0; i < f_.size(); ++i) {
+    f_[i] *= 100.0 * targets_.splits[i].fraction / std::max(s.split_percent[i], 1e-6);
+    sum += f_[i];
+  }
+  for (double& x : f_)
+    x /= sum;
+}
+
+void measure_cycle(const analysis::CycleStats& cycle, const std::string& inlet,
+                   const TuningTargets& t, TuningStep& s) {
+  const double period = cycle.t_end - cycle.t_begin;
+  s.split_percent.assign(t.splits.size(), NAN);
+  s.outlet_pressure.assign(t.splits.size(), NAN);
+  s.outlet_flow.assign(t.splits.size(), NAN);
+  for (const analysis::FaceCycleStats& f : cycle.faces) {
+    if (f.face == inlet)
+      s.achieved = {f.systolic, f.diastolic, f.mean};
+    for (size_t i = 0; i < t.splits.size(); ++i)
+      if (f.face == t.splits[i].face) {
+        s.split_percent[i] = f.split_percent.value_or(NAN);
+        s.outlet_pressure[i] = f.mean;
+        s.outlet_flow[i] = f.volume / period;
+      }
+  }
+}
+
 TuningResult tune_outlets(const io::Case& c, const TuningTargets& t, bool progress,
                           const Measure& measure) {
-  const io::BoundaryCondition& inflow = single_inflow(c);
-  check_outlets(c, t);
+  OutletCorrection correction(c, t);
   if (t.max_iterations > 0 && c.time.steps_per_cycle == 0)
     input_error("the 3D stage runs whole cycles: the period {} s must be a multiple of "
                 "time.step = {} s",
@@ -160,69 +229,19 @@ TuningResult tune_outlets(const io::Case& c, const TuningTargets& t, bool progre
   const Measure run_3d = measure ? measure : Measure(measure_3d);
 
   TuningResult result;
-  std::vector<double> f; // the distribution of the totals over the outlets
-  for (const OutletFraction& o : t.splits)
-    f.push_back(o.fraction);
-  DomainResistance domain{t.domain_resistance, {}};
-  if (t.per_outlet)
-    domain.branch.assign(f.size(), 0.0);
-  std::array<double, 3> defect = {1.0, 1.0, 1.0}; // P0D / P3D per pressure, from the last run
   for (int k = 0; k <= t.max_iterations; ++k) {
-    const InletPressures aim{t.pressure.systolic * defect[0], t.pressure.diastolic * defect[1],
-                             t.pressure.mean * defect[2]};
-    // From the last fit: the aims move little between iterations.
-    const FitResult fit =
-        fit_windkessel_totals(aim, inflow.flow, fractions(t, f), domain,
-                              k == 0 ? WindkesselTotals{} : result.steps.back().totals);
-    TuningStep s;
-    s.iteration = k;
-    s.totals = fit.totals;
-    s.distribution = f;
-    s.domain = domain;
-    s.outlets = distribute(fit.totals, fractions(t, f), domain);
+    TuningStep s = correction.plan(k, k == 0 ? nullptr : &result.steps.back().totals);
     result.tuned = with_outlets(c, s.outlets);
-    if (k == 0) { // the 0D stage's own prediction
-      s.achieved = fit.achieved;
-      const bc::PeriodicState st = zero_d_model(s.outlets, domain).periodic(inflow.flow);
-      double total = 0.0;
-      for (size_t i = 0; i < f.size(); ++i)
-        total += st.mean_branch_flow(i);
-      for (size_t i = 0; i < f.size(); ++i)
-        s.split_percent.push_back(100.0 * st.mean_branch_flow(i) / total);
-    } else {
-      run_3d(result.tuned, inflow.face, t, s);
-    }
-    score(s, t);
-    if (root && progress)
+    if (k > 0)
+      run_3d(result.tuned, correction.inlet(), t, s);
+    result.met = correction.score(s);
+    if (root)
       print_step(s);
     result.steps.push_back(s);
-    result.met = s.pressure_error <= t.pressure_tolerance && s.split_error <= t.split_tolerance;
     if (k == t.max_iterations || (k > 0 && result.met))
       break;
-    if (k == 0)
-      continue; // the first 3D run uses the 0D fit as it is
-    if (!(std::isfinite(s.pressure_error) && std::isfinite(s.split_error)))
-      throw SolverError(fmt::format("tuning: the 3D run of iteration {} gave no finite inlet "
-                                    "pressures or splits",
-                                    k));
-    // (a) The 0D model takes the domain's resistance as the run measured it.
-    if (t.correct_domain)
-      domain = measured_domain(s, t.per_outlet);
-    // (b) What the corrected model of the outlets that ran still misses rescales the aims.
-    const InletPressures p0 =
-        inlet_pressures(zero_d_model(s.outlets, domain).periodic(inflow.flow));
-    defect = {p0.systolic / s.achieved.systolic, p0.diastolic / s.achieved.diastolic,
-              p0.mean / s.achieved.mean};
-    // (c) Shared parameters: the distribution follows the splits' misfit.
-    if (t.per_outlet)
-      continue;
-    double sum = 0.0;
-    for (size_t i = 0; i < f.size(); ++i) {
-      f[i] *= 100.0 * t.splits[i].fraction / std::max(s.split_percent[i], 1e-6);
-      sum += f[i];
-    }
-    for (double& x : f)
-      x /= sum;
+    if (k > 0) // the first 3D run uses the 0D fit as it is
+      correction.learn(s);
   }
   return result;
 }

@@ -21,10 +21,12 @@
 //          splits the mean flow as the targets.
 //     Without (a), (b) is the plain fixed-point update of the aims, exact for a domain that
 //     scales pressures by fixed factors.
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "analysis/cycle_summary.hpp"
 #include "io/case.hpp"
 #include "tuning/targets.hpp"
 
@@ -55,6 +57,41 @@ struct TuningResult {
   io::Case tuned; ///< the case with the final outlets
   bool met = false;
 };
+
+/// The state of the 3D correction between runs (steps a-c of the file comment): what the
+/// runs so far taught the 0D model. plan() fits the outlets of an iteration; learn() takes a
+/// measured 3D step of the outlets that ran. Shared by the separate correction runs of
+/// tune_outlets and the corrections at the cycle ends of one run (corrected_run.hpp).
+class OutletCorrection {
+public:
+  /// Checks the case against the targets (one periodic inflow; every RCR or resistance
+  /// outlet has a target split and every target names such an outlet).
+  OutletCorrection(const io::Case& c, TuningTargets targets);
+  /// The outlets of iteration k fitted to the current aims, from the previous totals when
+  /// given; iteration 0 carries the 0D model's own prediction as achieved.
+  TuningStep plan(int iteration, const WindkesselTotals* previous = nullptr) const;
+  /// Fills the step's errors; true when every pressure and split is within its tolerance.
+  bool score(TuningStep& step) const;
+  /// Corrects the 0D model with a measured step (finite pressures and splits, or SolverError).
+  void learn(const TuningStep& measured);
+  const std::string& inlet() const { return inlet_; }
+  const TuningTargets& targets() const { return targets_; }
+  const bc::Waveform& inflow() const { return inflow_; }
+
+private:
+  TuningTargets targets_;
+  bc::Waveform inflow_;
+  std::string inlet_;
+  std::vector<double> f_; ///< the distribution of the totals over the outlets
+  DomainResistance domain_;
+  std::array<double, 3> defect_ = {1.0, 1.0, 1.0}; ///< P0D / P3D per pressure, last run
+};
+
+/// A run's cycle as a measured step: inlet pressures, splits, outlet mean pressures and flows.
+void measure_cycle(const analysis::CycleStats& cycle, const std::string& inlet_face,
+                   const TuningTargets& targets, TuningStep& step);
+/// One progress line of a step (stdout).
+void print_step(const TuningStep& step);
 
 /// Checks the case against the targets (one periodic inflow; every RCR or resistance outlet
 /// has a target split and every target names such an outlet) and tunes. With

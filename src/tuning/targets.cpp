@@ -12,7 +12,7 @@ namespace tearflow::tuning {
 TuningTargets load_targets(const std::filesystem::path& file) {
   const io::YamlValue root(file.string(), io::parse_yaml_file(file));
   root.check_keys({"pressure", "splits", "tolerance", "iterations", "cycles", "domain_resistance",
-                   "parameters", "correction"});
+                   "parameters", "correction", "in_run"});
   TuningTargets t;
 
   const io::YamlValue p =
@@ -66,6 +66,8 @@ TuningTargets load_targets(const std::filesystem::path& file) {
       x->fail("per-outlet parameters are corrected by the domain's resistance to each outlet: "
               "use correction: domain (the default) with parameters: per_outlet");
   }
+  if (auto x = root.get("in_run"))
+    t.in_run = x->choice({"true", "false"}) == "true";
   return t;
 }
 

@@ -24,6 +24,10 @@ struct TuningTargets {
   /// Per-outlet parameters: each outlet's resistance corrected by the domain's resistance to
   /// that outlet (R_i = R_T / f_i - e_i), instead of one R_T distributed by f_i.
   bool per_outlet = false;
+  /// The 3D corrections happen at the cycle ends of the analysed run itself (`tearflow run
+  /// --targets`, corrected_run.hpp) instead of in separate runs by `tearflow tune`: what a
+  /// study does for such targets.
+  bool in_run = false;
 };
 
 /// Reads and checks a targets file. InputError naming the file, line and key for unknown
