@@ -235,6 +235,22 @@ void FsiProblem::set_displacement(const std::vector<double>& all) {
   place_fluid(Dn_loc_);
 }
 
+void FsiProblem::set_wall_displacement(const std::vector<double>& all) {
+  std::vector<Vec3> d(static_cast<size_t>(dmesh_.num_local()));
+  for (Index l = 0; l < dmesh_.num_local(); ++l)
+    for (int c = 0; c < 3; ++c)
+      d[l][c] = all[block * dmesh_.original_index(l) + c];
+  mesh_.solve(d, d); // the fluid's nodes follow the wall's
+  {
+    fem::WriteArray D(D_);
+    for (Index l = 0; l < dmesh_.num_owned(); ++l)
+      for (int c = 0; c < 3; ++c)
+        D[block * l + c] = d[l][c];
+  }
+  dofs_.global_to_local(D_, Dn_loc_);
+  place_fluid(Dn_loc_);
+}
+
 double FsiProblem::fluid_volume() const {
   fem::OwnedVec D_loc = dofs_.create_local();
   dofs_.global_to_local(D_, D_loc);

@@ -71,6 +71,8 @@ public:
 
 private:
   void start_from_0d();
+  /// The wall in quasi-static equilibrium with the fluid pressure p0 (FSI start).
+  void load_wall(double p0);
   void write_frame();
   void report_cycle(const analysis::CycleStats& c, bool periodic) const;
   std::vector<double> outlet_checkpoint() const;
