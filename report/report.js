@@ -9,7 +9,8 @@
   window.addEventListener('error', (e) => { errors.textContent += e.message + '\n'; });
   const data = window.TEARFLOW_DATA;
   const figures = document.getElementById('figures');
-  const dashes = [[], [6, 4], [2, 3], [10, 3, 2, 3]];
+  // One style per run: a study with rigid counterparts (docs/study.md) has twice its variants.
+  const dashes = [[], [6, 4], [2, 3], [10, 3, 2, 3], [12, 6], [4, 2, 1, 2], [1, 5], [8, 2, 8, 6]];
   const palette = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b',
                    '#e377c2', '#7f7f7f', '#bcbd22', '#17becf'];
   const multi = data.runs.length > 1;
@@ -49,12 +50,12 @@
         datasets.push({label: label(run, n), showLine: true, pointRadius: 0, borderWidth: 1.5,
                        borderColor: palette[i % palette.length],
                        borderDash: dashes[r % dashes.length],
-                       data: s.time_s.map((t, k) => ({x: t, y: s[column][k]}))});
+                       data: s.time_s.map((t, k) => ({x: t - s.time_s[0], y: s[column][k]}))});
       });
     });
     if (datasets.length)
       figure(name, title, {type: 'scatter', data: {datasets},
-                           options: axes('time [s]', unit, true)});
+                           options: axes('time in the analysed cycle [s]', unit, true)});
   }
 
   const aorta = ['inlet', 'AAo', 'DAo_prox', 'DAo_dist', 'outlet'];
@@ -73,13 +74,14 @@
       const t = run.series['TL' + k], f = run.series['FL' + k];
       dp.push({label: label(run, 'station ' + k), showLine: true, pointRadius: 0,
                borderWidth: 1.5, borderColor: palette[i], borderDash: dashes[r % dashes.length],
-               data: t.time_s.map((x, j) => ({x, y: t.mean_pressure_mmHg[j] -
+               data: t.time_s.map((x, j) => ({x: x - t.time_s[0], y: t.mean_pressure_mmHg[j] -
                                                      f.mean_pressure_mmHg[j]}))});
     });
   });
   if (dp.length)
     figure('pressure_difference', 'TL - FL pressure difference dP(t)',
-           {type: 'scatter', data: {datasets: dp}, options: axes('time [s]', 'dP [mmHg]', true)});
+           {type: 'scatter', data: {datasets: dp},
+            options: axes('time in the analysed cycle [s]', 'dP [mmHg]', true)});
 
   // Peak-systolic pressure over the inlet's along each lumen.
   const along = ['inlet', 'S1', 'S2', 'S3', 'S4', 'S5', 'outlet'];

@@ -24,13 +24,16 @@ std::string read_text(const fs::path& file) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-/// The CI study with its output in `out` (its case and targets from tests/data/study).
-fs::path write_study(const fs::path& out) {
+/// The CI study `name` (study.yaml, study-fsi.yaml) with its output in `out` (its case and
+/// targets from tests/data/study).
+fs::path write_study(const fs::path& out, const std::string& name = "study") {
   fs::create_directories(out);
-  std::string text = read_text(testing::test_data / "study" / "study.yaml");
-  text.replace(text.find("case: case.yaml"), 15,
+  std::string text = read_text(testing::test_data / "study" / (name + ".yaml"));
+  const std::string case_line =
+      text.substr(text.find("case: "), text.find('\n', text.find("case: ")) - text.find("case: "));
+  text.replace(text.find(case_line), case_line.size(),
                fmt::format("case: {}\noutput: {}",
-                           (testing::test_data / "study" / "case.yaml").string(),
+                           (testing::test_data / "study" / case_line.substr(6)).string(),
                            (out / "results").string()));
   const fs::path file = out / "study.yaml";
   std::ofstream(file) << text;
@@ -140,4 +143,85 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
 }
 
 } // namespace
+} // namespace tearflow
+
+namespace tearflow {
+namespace {
+
+/// Starts `tearflow study file` in its own process group, logging to `log`; returns once
+/// `marker` shows in the log (or fails the test after `minutes`), then kills the group.
+void interrupt_study_at(const fs::path& dir, const fs::path& file, const std::string& marker,
+                        int minutes) {
+  const fs::path log = dir / "first.log";
+  const std::string start =
+      fmt::format("setsid sh -c 'echo $$ > {}; exec {} study {}' > {} 2>&1 &",
+                  (dir / "pid").string(), TEARFLOW_BINARY, file.string(), log.string());
+  ASSERT_EQ(std::system(start.c_str()), 0);
+  bool reached = false;
+  for (int i = 0; i < 120 * minutes && !reached; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    reached = read_text(log).find(marker) != std::string::npos;
+  }
+  ASSERT_TRUE(reached) << read_text(log);
+  const pid_t group = std::stoi(read_text(dir / "pid"));
+  ASSERT_EQ(kill(-group, SIGKILL), 0);
+  for (int i = 0; i < 100 && kill(-group, 0) == 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+}
+
+} // namespace
+
+// The compliant CI study (tests/data/study/study-fsi.yaml: OR at 8 mm with its wall, FSI, the
+// outlets corrected at the run's cycle ends, at most two cycles of 50 steps): the summary
+// records the wall model, target against achieved of the last cycle, the cycles run and
+// their last change; the aortic root dilates; killed in its second cycle and run again, the
+// study continues the run (not geometry) with the outlets corrected after the first cycle
+// and ends where the uninterrupted study ended.
+TEST(Study, CompliantStudyTunesInItsRunAndResumes) {
+  const fs::path a = testing::fresh_dir("study-fsi-a");
+  testing::Result r = testing::run_tearflow("study " + write_study(a, "study-fsi").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const fs::path out = a / "results";
+  for (const char* file : {"geometry/mesh.msh", "case.yaml", "targets.yaml", "run/tuned.yaml",
+                           "run/tuning.json", "run/cycles.json", "run/analysis/metrics.json"})
+    EXPECT_TRUE(fs::exists(out / "OR" / file)) << file;
+  EXPECT_FALSE(fs::exists(out / "OR" / "tuned.yaml")) << "no separate tune stage";
+  const json summary = read_json(out / "summary.json");
+  const json& v = summary["variants"]["OR"];
+  EXPECT_EQ(v["wall"], "fsi");
+  EXPECT_EQ(v["tuning"]["method"]["runs"], "in_run");
+  EXPECT_FALSE(v["tuning"].contains("run_state")); // the restart's copy stays in the run
+  for (const char* key : {"systolic_mmHg", "diastolic_mmHg", "mean_mmHg"})
+    EXPECT_TRUE(v["tuning"]["targets"].contains(key)) << key;
+  const json& steps = v["tuning"]["steps"];
+  ASSERT_GE(steps.size(), 2u); // the 0D stage and at least one measured cycle
+  EXPECT_EQ(steps.back()["stage"], "3D");
+  EXPECT_GE(v["cycles_run"].get<int>(), 1);
+  EXPECT_LE(v["cycles_run"].get<int>(), 2);
+  EXPECT_EQ(v["cycles_run"].get<size_t>() + 1, steps.size());
+  EXPECT_TRUE(v.contains("periodicity_last_change"));
+  for (const char* stage : {"OR/geometry", "OR/run", "OR/analyze", "report"})
+    EXPECT_TRUE(summary["stages"][stage].contains("seconds")) << stage;
+  // The compliant aorta dilates over the cycle (the rigid one cannot).
+  EXPECT_GT(v["AAo_min_to_max_dilation_percent"].get<double>(), 0.0);
+
+  const fs::path b = testing::fresh_dir("study-fsi-b");
+  const fs::path study_b = write_study(b, "study-fsi");
+  interrupt_study_at(b, study_b, "[OR run] step    60/", 15);
+  r = testing::run_tearflow("study " + study_b.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("[OR geometry]"), std::string::npos) << "geometry was redone";
+  EXPECT_NE(r.output.find("[OR run] restarting from step"), std::string::npos) << r.output;
+  const json ta = read_json(out / "OR" / "run" / "tuning.json");
+  const json tb = read_json(b / "results" / "OR" / "run" / "tuning.json");
+  ASSERT_EQ(tb["steps"].size(), ta["steps"].size());
+  // The same solves (Newton to 1e-3, then the same outlets): the cycles' pressures agree far
+  // inside the 4.6 % tolerance; 1e-3 relative allows the restarted preconditioner.
+  for (size_t i = 0; i < ta["steps"].size(); ++i)
+    EXPECT_NEAR(tb["steps"][i]["systolic_mmHg"].get<double>(),
+                ta["steps"][i]["systolic_mmHg"].get<double>(),
+                1e-3 * ta["steps"][i]["systolic_mmHg"].get<double>())
+        << "step " << i;
+}
+
 } // namespace tearflow

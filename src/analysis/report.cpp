@@ -195,10 +195,11 @@ json report_run_data(const std::filesystem::path& run_dir,
   std::filesystem::path where = std::filesystem::absolute(run_dir).lexically_normal();
   if (where.filename().empty())
     where = where.parent_path();
-  // A study's runs are VARIANT/run (docs/study.md): the variant names them.
-  if (where.filename() == "run" && where.has_parent_path())
-    where = where.parent_path();
-  const std::string name = where.filename().string();
+  // A study's runs are VARIANT/run, and VARIANT/rigid for their rigid-wall counterparts
+  // (docs/study.md): the variant names them.
+  std::string name = where.filename().string();
+  if ((name == "run" || name == "rigid") && where.has_parent_path())
+    name = where.parent_path().filename().string() + (name == "rigid" ? " rigid" : "");
   json run{{"name", name}, {"metrics", metrics}, {"series", json::object()}};
   for (const auto& [landmark, values] : metrics["landmarks"].items())
     run["series"][landmark] = read_series(analysis_dir / (landmark + ".csv"));

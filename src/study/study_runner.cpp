@@ -96,6 +96,10 @@ std::vector<StudyRunner::Stage> StudyRunner::stages() const {
       out.push_back({&v, "tune"});
     out.push_back({&v, "run"});
     out.push_back({&v, "analyze"});
+    if (spec_.compare_rigid) {
+      out.push_back({&v, "rigid_run"});
+      out.push_back({&v, "rigid_analyze"});
+    }
   }
   out.push_back({nullptr, "report"});
   return out;
@@ -104,7 +108,8 @@ std::vector<StudyRunner::Stage> StudyRunner::stages() const {
 std::string StudyRunner::stage_fingerprint(const Stage& s) const {
   if (s.variant != nullptr)
     return fingerprint(spec_, *s.variant);
-  std::string all = spec_.png ? "png" : "";
+  // (compare_rigid adds stages and runs to the report, and changes no variant's other stages)
+  std::string all = std::string(spec_.png ? "png" : "") + (spec_.compare_rigid ? "rigid" : "");
   for (const Variant& v : spec_.variants)
     all += fingerprint(spec_, v);
   return all;
@@ -128,7 +133,30 @@ void StudyRunner::forget_variant(const Variant& v) {
     it = it.key().rfind(v.name + "/", 0) == 0 ? stages.erase(it) : std::next(it);
   stages.erase("report");
   std::filesystem::remove_all(dir(v) / "run"); // no restart from another recipe's state
+  std::filesystem::remove_all(dir(v) / "rigid");
   io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
+}
+
+void StudyRunner::write_rigid_case(const Variant& v) const {
+  const std::filesystem::path from = tuned_in_run(v)    ? dir(v) / "run" / "tuned.yaml"
+                                     : given(v.targets) ? dir(v) / "tuned.yaml"
+                                                        : dir(v) / "case.yaml";
+  YAML::Node root = YAML::Clone(io::parse_yaml_file(from));
+  root["name"] = root["name"].as<std::string>() + "-rigid";
+  root.remove("solid");
+  root.remove("petsc_options"); // the compliant solver's
+  root["mesh"]["region"] = "fluid";
+  if (root["mesh"]["file"] &&
+      std::filesystem::path(root["mesh"]["file"].as<std::string>()).is_relative())
+    root["mesh"]["file"] =
+        (from.parent_path() / root["mesh"]["file"].as<std::string>()).lexically_normal().string();
+  root["output"]["directory"] = (dir(v) / "rigid").string();
+  YAML::Emitter out;
+  out << root;
+  io::write_file_atomically(dir(v) / "rigid.yaml",
+                            fmt::format("# Variant '{}' of study '{}' with rigid walls and the "
+                                        "outlets of '{}', written by `tearflow study`.\n{}\n",
+                                        v.name, spec_.name, from.string(), out.c_str()));
 }
 
 void StudyRunner::write_case(const Variant& v) const {
@@ -182,6 +210,9 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
     std::vector<std::string> argv{self, "report"};
     for (const Variant& v : spec_.variants)
       argv.push_back((dir(v) / "run").string());
+    if (spec_.compare_rigid)
+      for (const Variant& v : spec_.variants)
+        argv.push_back((dir(v) / "rigid").string());
     argv.insert(argv.end(), {"-o", (spec_.output / "report.html").string()});
     if (spec_.png)
       argv.push_back("--png");
@@ -214,8 +245,25 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
       parallel.push_back("--restart"); // an interrupted run continues
     return parallel;
   }
-  return {self, "analyze", (dir(v) / "run").string(), "--landmarks",
-          (geometry_dir(v) / "landmarks.json").string()};
+  if (s.name == "rigid_run") {
+    parallel.insert(parallel.end(), {"run", (dir(v) / "rigid.yaml").string()});
+    if (std::filesystem::exists(dir(v) / "rigid" / "checkpoint.bin"))
+      parallel.push_back("--restart");
+    return parallel;
+  }
+  const std::string run = s.name == "rigid_analyze" ? "rigid" : "run";
+  // The case that ran, for the conservative flux (docs/analysis.md).
+  const std::filesystem::path ran = s.name == "rigid_analyze" ? dir(v) / "rigid.yaml"
+                                    : tuned_in_run(v)         ? dir(v) / "run" / "tuned.yaml"
+                                    : given(v.targets)        ? dir(v) / "tuned.yaml"
+                                                              : dir(v) / "case.yaml";
+  return {self,
+          "analyze",
+          (dir(v) / run).string(),
+          "--landmarks",
+          (geometry_dir(v) / "landmarks.json").string(),
+          "--case",
+          ran.string()};
 }
 
 int StudyRunner::execute(const Stage& s, const std::vector<std::string>& argv) {
@@ -284,6 +332,8 @@ int StudyRunner::run() {
     if (finished(s))
       continue;
     progress(i, all.size());
+    if (s.name == "rigid_run")
+      write_rigid_case(*s.variant);
     const double t0 = now();
     const int code = execute(s, command(s));
     // `tune` exits with 1 when the targets are not met within the tolerances: the best
@@ -301,9 +351,11 @@ int StudyRunner::run() {
       fmt::print("study '{}': {}: tuning targets not met within the tolerances; going on with "
                  "the best outlets found (see '{}')\n",
                  spec_.name, s.variant->name, (dir(*s.variant) / "tuned.yaml").string());
-    if (s.name == "analyze" && given(s.variant->targets)) // the report shows target vs achieved
+    if ((s.name == "analyze" || s.name == "rigid_analyze") &&
+        given(s.variant->targets)) // the report shows target vs achieved
       std::filesystem::copy_file(dir(*s.variant) / "targets.yaml",
-                                 dir(*s.variant) / "run" / "targets.yaml",
+                                 dir(*s.variant) / (s.name == "analyze" ? "run" : "rigid") /
+                                     "targets.yaml",
                                  std::filesystem::copy_options::overwrite_existing);
     record(s, now() - t0);
   }
@@ -333,6 +385,13 @@ void StudyRunner::write_summary() const {
            {"frames", "stations", "pressure_drops", "AAo_min_to_max_dilation_percent", "achieved"})
         if (metrics.contains(key))
           entry[key] = metrics[key];
+    }
+    if (spec_.compare_rigid) { // the rigid-wall counterpart's headline numbers
+      const json rigid = read_json(dir(v) / "rigid" / "analysis" / "metrics.json");
+      if (rigid.is_object())
+        for (const char* key : {"stations", "pressure_drops", "achieved"})
+          if (rigid.contains(key))
+            entry["rigid"][key] = rigid[key];
     }
     const json tuning =
         read_json(dir(v) / (tuned_in_run(v) ? "run/tuning.json" : "tuned.tuning.json"));

@@ -79,7 +79,7 @@ StudySpec load_study(const std::filesystem::path& file,
   const YAML::Node root_node = io::parse_yaml_file(file);
   const io::YamlValue root(file.string(), root_node);
   root.check_keys({"name", "case", "output", "ranks", "launcher", "time", "geometry", "tuning",
-                   "png", "variants"});
+                   "png", "compare_rigid", "variants"});
   s.name = root.has("name") ? root.require("name", "").text() : file.stem().string();
   if (!std::regex_match(s.name, std::regex("[A-Za-z0-9_.-]+")))
     root.require("name", "").fail_expected("a name of letters, digits, '_', '-' and '.'");
@@ -107,6 +107,11 @@ StudySpec load_study(const std::filesystem::path& file,
   }
   if (const auto png = root.get("png"))
     s.png = png->choice({"true", "false"}) == "true";
+  if (const auto rigid = root.get("compare_rigid")) {
+    s.compare_rigid = rigid->choice({"true", "false"}) == "true";
+    if (s.compare_rigid && !io::parse_yaml_file(s.case_file)["solid"])
+      rigid->fail("the case has rigid walls already (no `solid` section): nothing to compare");
+  }
   std::map<std::string, std::string> geometry_defaults;
   if (const auto g = root.get("geometry"))
     read_geometry(*g, geometry_options, geometry_defaults);

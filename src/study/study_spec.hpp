@@ -34,6 +34,9 @@ struct StudySpec {
   /// Overrides of the case's `time` (cycles or periodicity), as YAML; null: the case's.
   YAML::Node time;
   bool png = true; ///< figures as PNG through headless Chromium
+  /// Each variant of a compliant study also runs with rigid walls and the outlets its
+  /// compliant run ended with, and the report overlays both (docs/study.md).
+  bool compare_rigid = false;
   std::vector<Variant> variants;
 };
 

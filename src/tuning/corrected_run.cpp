@@ -59,11 +59,13 @@ struct Entry {
   int measured_at = -1; ///< the step that ended its measured cycle; -1: not measured
 };
 
-/// The outlets' 0D periodic distal pressures at the cycle start (t = 0 of the waveform).
-std::vector<double> distal_at_start(const TuningStep& s, const bc::Waveform& inflow) {
-  const bc::PeriodicState st = zero_d_model(s.outlets, s.domain).periodic(inflow);
+/// The outlets' 0D periodic distal pressures at the cycle start (t = 0 of the waveform) behind
+/// the domain's resistance.
+std::vector<double> distal_at_start(const std::vector<bc::WindkesselBranch>& outlets,
+                                    const DomainResistance& domain, const bc::Waveform& inflow) {
+  const bc::PeriodicState st = zero_d_model(outlets, domain).periodic(inflow);
   std::vector<double> p;
-  for (size_t i = 0; i < s.outlets.size(); ++i)
+  for (size_t i = 0; i < outlets.size(); ++i)
     p.push_back(st.distal_pressure(i, 0.0));
   return p;
 }
@@ -161,13 +163,22 @@ CorrectedRun run_corrected(const io::Case& c, const std::filesystem::path& case_
       entries.push_back(done); // the 0D stage's prediction stays beside its measurement
     else
       entries.back() = done;
+    // Corrected while any error exceeds half its tolerance: after the last correction the
+    // outlets' capacitors still approach their periodic state over a few cycles (R_d C ~ 1.4
+    // s in the dissection), which moves the pressures by 1-2 % (measured), and the margin
+    // keeps the periodic cycle inside the tolerance.
+    const bool close = measured.pressure_error <= 0.5 * targets.pressure_tolerance &&
+                       measured.split_error <= 0.5 * targets.split_tolerance;
     TuningStep next = measured;
     next.iteration += 1;
-    if (!met) {
+    if (!close) {
       correction.learn(measured);
       next = correction.plan(measured.iteration + 1, &measured.totals);
-      const std::vector<double> before = distal_at_start(measured, correction.inflow());
-      const std::vector<double> after = distal_at_start(next, correction.inflow());
+      // Both 0D models behind the domain the run just measured: the ratio is the outlets'.
+      const std::vector<double> before =
+          distal_at_start(measured.outlets, next.domain, correction.inflow());
+      const std::vector<double> after =
+          distal_at_start(next.outlets, next.domain, correction.inflow());
       std::vector<physics::FluidProblem::OutletState> states = sim.fluid().outlet_states();
       const auto& outlets = sim.fluid().conditions().outlets;
       for (size_t k = 0; k < next.outlets.size(); ++k)

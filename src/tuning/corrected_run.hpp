@@ -7,11 +7,12 @@
 //   means) and scored against the targets;
 //     met and periodic (the case's time.periodicity tolerance) -> the run stops: cycle k is
 //                                                                 the tuned, periodic cycle;
-//     met, not yet periodic                                    -> the outlets stay;
-//     not met                                                  -> learn (steps a-c), refit,
+//     every error within half its tolerance, not yet periodic  -> the outlets stay;
+//     otherwise                                                -> learn (steps a-c), refit,
 //        and cycle k+1 runs the new outlets, each outlet's distal pressure scaled by the
-//        ratio of the new to the old 0D periodic distal pressure at the cycle start, so
-//        that the new outlets start near their own periodic state.
+//        ratio of the new to the old outlets' 0D periodic distal pressure at the cycle
+//        start (both behind the domain just measured), so that the new outlets start near
+//        their own periodic state.
 //
 // Why: a compliant wall's run costs minutes per cycle, and a separate correction run must
 // start from rest and cycle again to periodicity; here every cycle serves both the
