@@ -87,6 +87,13 @@ bool tuned_in_run(const Variant& v) {
 
 } // namespace
 
+/// The case the variant's run ran with: tuned in the run, tuned by `tune`, or as written.
+std::filesystem::path StudyRunner::ran_case(const Variant& v) const {
+  return tuned_in_run(v)    ? dir(v) / "run" / "tuned.yaml"
+         : given(v.targets) ? dir(v) / "tuned.yaml"
+                            : dir(v) / "case.yaml";
+}
+
 std::vector<StudyRunner::Stage> StudyRunner::stages() const {
   std::vector<Stage> out;
   for (const Variant& v : spec_.variants) {
@@ -138,9 +145,7 @@ void StudyRunner::forget_variant(const Variant& v) {
 }
 
 void StudyRunner::write_rigid_case(const Variant& v) const {
-  const std::filesystem::path from = tuned_in_run(v)    ? dir(v) / "run" / "tuned.yaml"
-                                     : given(v.targets) ? dir(v) / "tuned.yaml"
-                                                        : dir(v) / "case.yaml";
+  const std::filesystem::path from = ran_case(v);
   YAML::Node root = YAML::Clone(io::parse_yaml_file(from));
   root["name"] = root["name"].as<std::string>() + "-rigid";
   root.remove("solid");
@@ -239,8 +244,7 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
       parallel.insert(parallel.end(), {"run", (dir(v) / "case.yaml").string(), "--targets",
                                        (dir(v) / "targets.yaml").string()});
     else
-      parallel.insert(parallel.end(),
-                      {"run", (dir(v) / (given(v.targets) ? "tuned.yaml" : "case.yaml")).string()});
+      parallel.insert(parallel.end(), {"run", ran_case(v).string()});
     if (std::filesystem::exists(dir(v) / "run" / "checkpoint.bin"))
       parallel.push_back("--restart"); // an interrupted run continues
     return parallel;
@@ -253,10 +257,7 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
   }
   const std::string run = s.name == "rigid_analyze" ? "rigid" : "run";
   // The case that ran, for the conservative flux (docs/analysis.md).
-  const std::filesystem::path ran = s.name == "rigid_analyze" ? dir(v) / "rigid.yaml"
-                                    : tuned_in_run(v)         ? dir(v) / "run" / "tuned.yaml"
-                                    : given(v.targets)        ? dir(v) / "tuned.yaml"
-                                                              : dir(v) / "case.yaml";
+  const std::filesystem::path ran = s.name == "rigid_analyze" ? dir(v) / "rigid.yaml" : ran_case(v);
   return {self,
           "analyze",
           (dir(v) / run).string(),

@@ -44,6 +44,8 @@ private:
   void forget_variant(const Variant& v); ///< its recipe changed: redo all its stages
 
   void write_case(const Variant& v) const;
+  /// The case the variant's run ran with (run/tuned.yaml, tuned.yaml or case.yaml).
+  std::filesystem::path ran_case(const Variant& v) const;
   /// rigid.yaml: the case its compliant run ended with (tuned outlets), without the wall.
   void write_rigid_case(const Variant& v) const;
   std::vector<std::string> command(const Stage& s) const;
