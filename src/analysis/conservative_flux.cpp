@@ -1,6 +1,8 @@
 #include "analysis/conservative_flux.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <vtkCellType.h>
 #include <vtkDataArray.h>
@@ -42,6 +44,64 @@ vtkSmartPointer<vtkDoubleArray> difference(vtkUnstructuredGrid* before, vtkUnstr
   return out;
 }
 
+ContinuityState sized(vtkIdType n) {
+  const auto m = static_cast<std::size_t>(n);
+  ContinuityState s;
+  s.x.resize(m);
+  s.x_lagged.resize(m);
+  s.u.resize(m);
+  s.udot.resize(m);
+  s.w.resize(m);
+  s.lagged.resize(m);
+  s.p.resize(m);
+  return s;
+}
+
+/// The boundary triangles of a tetrahedral grid whose three nodes are marked `on_wall`
+/// (kOnWallArray), oriented outwards. None without that array (a rigid wall: u = 0 there).
+std::vector<std::array<vtkIdType, 3>> wall_triangles(vtkUnstructuredGrid* grid) {
+  std::vector<std::array<vtkIdType, 3>> out;
+  vtkDataArray* on_wall = grid->GetPointData()->GetArray(kOnWallArray);
+  if (on_wall == nullptr)
+    return out;
+  const auto marked = [&](vtkIdType id) { return on_wall->GetTuple1(id) > 0.5; };
+  // A face is on the boundary when one tetrahedron holds it; key: its sorted nodes.
+  std::map<std::array<vtkIdType, 3>, std::pair<int, std::array<vtkIdType, 4>>> faces;
+  for (vtkIdType cell = 0; cell < grid->GetNumberOfCells(); ++cell) {
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    grid->GetCellPoints(cell, n, ids);
+    if (n != 4)
+      continue;
+    for (int opposite = 0; opposite < 4; ++opposite) {
+      std::array<vtkIdType, 4> f{};
+      int m = 0;
+      for (int a = 0; a < 4; ++a)
+        if (a != opposite)
+          f[m++] = ids[a];
+      f[3] = ids[opposite];
+      if (!(marked(f[0]) && marked(f[1]) && marked(f[2])))
+        continue;
+      std::array<vtkIdType, 3> key{f[0], f[1], f[2]};
+      std::sort(key.begin(), key.end());
+      auto [it, inserted] = faces.try_emplace(key, 0, f);
+      ++it->second.first;
+    }
+  }
+  for (const auto& [key, entry] : faces) {
+    if (entry.first != 1)
+      continue;
+    const auto& f = entry.second;
+    std::array<Vec3, 4> x;
+    for (int a = 0; a < 4; ++a)
+      grid->GetPoint(f[a], x[a].data());
+    const bool outward = dot(cross(x[1] - x[0], x[2] - x[0]), x[3] - x[0]) < 0;
+    out.push_back(outward ? std::array<vtkIdType, 3>{f[0], f[1], f[2]}
+                          : std::array<vtkIdType, 3>{f[0], f[2], f[1]});
+  }
+  return out;
+}
+
 } // namespace
 
 FrameDifferences frame_differences(vtkUnstructuredGrid* before, double t_before,
@@ -50,15 +110,78 @@ FrameDifferences frame_differences(vtkUnstructuredGrid* before, double t_before,
   return {difference(before, after, "velocity", dt), difference(before, after, "displacement", dt)};
 }
 
-std::vector<double> conservative_fluxes(vtkUnstructuredGrid* grid, const Vec3& origin,
-                                        const Vec3& normal, const RegionOf& region_of,
-                                        vtkIdType regions, const FrameRates& rates,
-                                        const ContinuityForm& form) {
-  vtkDataArray* velocity = grid->GetPointData()->GetArray("velocity");
-  vtkDataArray* pressure = grid->GetPointData()->GetArray("pressure");
-  std::vector<double> flux(static_cast<std::size_t>(std::max<vtkIdType>(regions, 0)), 0.0);
-  const double dt = form.time_step, rho = form.fluid.density;
-  std::array<Vec3, 4> x;
+bool has_acceleration(vtkUnstructuredGrid* frame) {
+  vtkDataArray* a = frame->GetPointData()->GetArray(kAcceleration);
+  return a != nullptr && a->GetNumberOfComponents() == 3;
+}
+
+ContinuityState step_stage(vtkUnstructuredGrid* before, vtkUnstructuredGrid* after,
+                           const ContinuityForm& form) {
+  const vtkIdType n = after->GetNumberOfPoints();
+  if (before->GetNumberOfPoints() != n || before->GetNumberOfCells() != after->GetNumberOfCells())
+    input_error("frames of different meshes ({} and {} nodes): the analysis needs one mesh",
+                before->GetNumberOfPoints(), n);
+  const auto [am, af, gamma] = form.scheme;
+  const double dt = form.time_step;
+  vtkDataArray* u0 = before->GetPointData()->GetArray("velocity");
+  vtkDataArray* u1 = after->GetPointData()->GetArray("velocity");
+  vtkDataArray* a0 = before->GetPointData()->GetArray(kAcceleration);
+  vtkDataArray* a1 = after->GetPointData()->GetArray(kAcceleration);
+  vtkDataArray* p1 = after->GetPointData()->GetArray("pressure");
+  ContinuityState s = sized(n);
+  s.time_step = dt;
+  s.exact = true;
+  for (vtkIdType i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    Vec3 x0, x1;
+    before->GetPoint(i, x0.data());
+    after->GetPoint(i, x1.data());
+    const Vec3 un = tuple3(u0, i);
+    s.x[k] = x0 + af * (x1 - x0); // the mesh at t_n + alpha_f dt, moving at w
+    s.w[k] = (1.0 / dt) * (x1 - x0);
+    s.x_lagged[k] = x0; // tau_M on the mesh at t_n with u_n (w = 0 there)
+    s.lagged[k] = un;
+    s.u[k] = un + af * (tuple3(u1, i) - un);
+    s.udot[k] = tuple3(a0, i) + am * (tuple3(a1, i) - tuple3(a0, i));
+    s.p[k] = p1->GetTuple1(i);
+  }
+  s.wall_triangles = wall_triangles(after);
+  return s;
+}
+
+ContinuityState frame_state(vtkUnstructuredGrid* frame, const FrameRates& rates,
+                            const ContinuityForm& form) {
+  const vtkIdType n = frame->GetNumberOfPoints();
+  vtkDataArray* velocity = frame->GetPointData()->GetArray("velocity");
+  vtkDataArray* pressure = frame->GetPointData()->GetArray("pressure");
+  vtkDataArray* udot =
+      has_acceleration(frame) ? frame->GetPointData()->GetArray(kAcceleration) : rates.acceleration;
+  ContinuityState s = sized(n);
+  s.time_step = form.time_step;
+  for (vtkIdType i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    frame->GetPoint(i, s.x[k].data());
+    s.x_lagged[k] = s.x[k];
+    s.u[k] = tuple3(velocity, i);
+    s.udot[k] = tuple3(udot, i);
+    s.w[k] = tuple3(rates.mesh_velocity, i);
+    s.lagged[k] = s.u[k] - form.time_step * s.udot[k] - s.w[k]; // ~ u_n - w
+    s.p[k] = pressure->GetTuple1(i);
+  }
+  s.wall_triangles = wall_triangles(frame);
+  return s;
+}
+
+PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& state,
+                              const Vec3& origin, const Vec3& normal, const RegionOf& region_of,
+                              vtkIdType regions, const ContinuityForm& form) {
+  PlaneFlux out;
+  out.regions.assign(static_cast<std::size_t>(std::max<vtkIdType>(regions, 0)), 0.0);
+  const double rho = form.fluid.density;
+  const auto downstream_of = [&](vtkIdType id) {
+    return dot(state.x[static_cast<std::size_t>(id)] - origin, normal) > 0;
+  };
+  std::array<Vec3, 4> x, x_lagged;
   std::array<double, 4> d;
   for (vtkIdType cell = 0; cell < grid->GetNumberOfCells(); ++cell) {
     if (grid->GetCellType(cell) != VTK_TETRA)
@@ -69,7 +192,9 @@ std::vector<double> conservative_fluxes(vtkUnstructuredGrid* grid, const Vec3& o
     grid->GetCellPoints(cell, n, ids);
     int downstream = 0;
     for (int a = 0; a < 4; ++a) {
-      grid->GetPoint(ids[a], x[a].data());
+      const auto k = static_cast<std::size_t>(ids[a]);
+      x[a] = state.x[k];
+      x_lagged[a] = state.x_lagged[k];
       d[a] = dot(x[a] - origin, normal);
       downstream += d[a] > 0 ? 1 : 0;
     }
@@ -90,20 +215,21 @@ std::vector<double> conservative_fluxes(vtkUnstructuredGrid* grid, const Vec3& o
       continue;
 
     // The element's share of F: grad psi . (u - tau_M / rho r_M), with the solver's kernel
-    // for r_M and tau_M (u.grad u, grad p and du/dt, on the convective velocity c = u - w).
+    // for r_M (u.grad u on the convective velocity u - w, grad p, du/dt) and tau_M.
     const fem::TetGeometry geo = fem::tet_geometry(x);
     physics::FluidElementState s;
     Vec3 lagged{};
     for (int a = 0; a < 4; ++a) {
-      s.u[a] = tuple3(velocity, ids[a]);
-      s.udot[a] = tuple3(rates.acceleration, ids[a]);
-      s.w[a] = tuple3(rates.mesh_velocity, ids[a]);
-      s.p[a] = pressure->GetTuple1(ids[a]);
-      // tau_M takes the previous step's convective velocity (fluid_problem.cpp).
-      lagged = lagged + 0.25 * (s.u[a] - dt * s.udot[a] - s.w[a]);
+      const auto k = static_cast<std::size_t>(ids[a]);
+      s.u[a] = state.u[k];
+      s.udot[a] = state.udot[k];
+      s.w[a] = state.w[k];
+      s.p[a] = state.p[k];
+      lagged = lagged + 0.25 * state.lagged[k];
     }
     const physics::FluidElementFields f = physics::element_fields(geo, s, form.fluid);
-    const physics::Stabilization stab = physics::stabilization(geo, lagged, form.fluid, dt);
+    const physics::Stabilization stab =
+        physics::stabilization(fem::tet_geometry(x_lagged), lagged, form.fluid, state.time_step);
     Vec3 grad_psi{}, u_mean{}, r_mean{};
     for (int a = 0; a < 4; ++a) {
       if (d[a] > 0)
@@ -112,10 +238,24 @@ std::vector<double> conservative_fluxes(vtkUnstructuredGrid* grid, const Vec3& o
       r_mean = r_mean + 0.25 * f.r[a];
     }
     const double volume = std::abs(geo.volume);
-    flux[static_cast<std::size_t>(region)] +=
+    out.regions[static_cast<std::size_t>(region)] +=
         volume * (dot(grad_psi, u_mean) - stab.tau_m / rho * dot(grad_psi, r_mean));
   }
-  return flux;
+  // W = int_wall psi u.n dA, exact for the P1 psi and u: the mass matrix A (1 + delta_ab) / 12.
+  for (const auto& t : state.wall_triangles) {
+    const std::array<std::size_t, 3> k{static_cast<std::size_t>(t[0]),
+                                       static_cast<std::size_t>(t[1]),
+                                       static_cast<std::size_t>(t[2])};
+    const Vec3 area_normal =
+        0.5 * cross(state.x[k[1]] - state.x[k[0]], state.x[k[2]] - state.x[k[0]]);
+    for (int a = 0; a < 3; ++a) {
+      if (!downstream_of(t[a]))
+        continue;
+      for (int b = 0; b < 3; ++b)
+        out.wall += (a == b ? 2.0 : 1.0) / 12.0 * dot(state.u[k[b]], area_normal);
+    }
+  }
+  return out;
 }
 
 } // namespace tearflow::analysis

@@ -21,10 +21,19 @@
 // the connected region of the section each cut tetrahedron belongs to, it gives each
 // lumen's flow.
 //
-// The frame does not hold everything the solver used: du/dt comes from the neighbouring
-// frames (a central difference, first order in the frame interval where the flow changes),
-// and tau_M's lagged velocity u_n is estimated as u - dt du/dt. Both only change the PSPG
-// term, by O(dt), and the balance measured on the demo says how much (docs/analysis.md).
+// On a moving wall the boundary integral also holds the wall's share, W = int_wall psi u.n dA
+// (u = the wall's velocity there): F - W is the outflow downstream of the plane, the same for
+// every plane with the same outlets below it; W_A - W_B is the rate of the volume stored
+// between planes A and B.
+//
+// The solver poses the step from t_n to t_{n+1} at the generalized-alpha stage: u and the
+// mesh at t_n + alpha_f dt, du/dt at t_n + alpha_m dt, p at t_{n+1}, tau_M from u_n on the
+// mesh at t_n (physics/fluid_problem.cpp, fsi_problem.cpp). Two frames one step apart that
+// hold du/dt (`acceleration`) give that stage exactly (step_stage): its F balances to the
+// Newton tolerance, at the stage's time. A frame without its step's start gives an
+// approximation (frame_state): the frame's fields at t_{n+1}, du/dt from the frame (else
+// differences of its neighbours), u_n estimated as u - dt du/dt; that balances to O(dt).
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -33,6 +42,7 @@
 #include <vtkType.h>
 
 #include "core/types.hpp"
+#include "physics/generalized_alpha.hpp"
 #include "physics/navier_stokes_kernel.hpp"
 
 class vtkDataArray;
@@ -40,10 +50,15 @@ class vtkUnstructuredGrid;
 
 namespace tearflow::analysis {
 
-/// What the continuity equation needs beyond the frame's fields.
+/// Point fields of a frame the flux reads beside `velocity` and `pressure`.
+inline constexpr const char* kAcceleration = "acceleration"; ///< du/dt as the run held it
+inline constexpr const char* kOnWallArray = "on_wall";       ///< 1 at the moving wall's nodes
+
+/// What the continuity equation needs beyond the frames' fields.
 struct ContinuityForm {
   double time_step = 0.0; ///< dt of the run [s]
   physics::FluidProperties fluid;
+  physics::GeneralizedAlpha scheme = physics::GeneralizedAlpha::from_spectral_radius(0.5);
 };
 
 /// Point fields that a frame's time derivatives add: du/dt and, on a moving mesh, the
@@ -63,16 +78,47 @@ struct FrameDifferences {
 FrameDifferences frame_differences(vtkUnstructuredGrid* before, double t_before,
                                    vtkUnstructuredGrid* after, double t_after);
 
+/// The fields of the continuity equation at the nodes of a frame's fluid mesh (its order).
+struct ContinuityState {
+  std::vector<Vec3> x;          ///< where the equation is posed [m]
+  std::vector<Vec3> x_lagged;   ///< where tau_M was computed [m]
+  std::vector<Vec3> u, udot, w; ///< [m/s], [m/s^2], [m/s]
+  std::vector<Vec3> lagged;     ///< tau_M's convective velocity [m/s]
+  std::vector<double> p;        ///< [Pa]
+  double time_step = 0.0;       ///< [s]
+  /// Boundary triangles on the moving wall (nodes, counter-clockwise seen from outside).
+  std::vector<std::array<vtkIdType, 3>> wall_triangles;
+  bool exact = false; ///< the solver's stage (step_stage), not an estimate (frame_state)
+};
+
+/// True when `frame` (a deformed fluid grid of read_flow_frame) holds du/dt.
+bool has_acceleration(vtkUnstructuredGrid* frame);
+
+/// The stage of the step from `before` to `after` (frames one step, form.time_step, apart,
+/// both with `acceleration`): exact. InputError when the frames' meshes differ.
+ContinuityState step_stage(vtkUnstructuredGrid* before, vtkUnstructuredGrid* after,
+                           const ContinuityForm& form);
+
+/// The estimate from one frame at t_{n+1}: du/dt from the frame when it holds it, else from
+/// `rates`; w from `rates`; step `form.time_step`.
+ContinuityState frame_state(vtkUnstructuredGrid* frame, const FrameRates& rates,
+                            const ContinuityForm& form);
+
 /// The region (of the plane's section) holding a point on the plane inside a cut
 /// tetrahedron, or -1 for none.
 using RegionOf = std::function<vtkIdType(const Vec3& point)>;
 
-/// F per region (index = region id, `regions` of them) through the plane (origin, unit
-/// normal n, positive downstream) on `grid` (linear tetrahedra, point fields velocity and
-/// pressure). InputError when the grid holds other cells.
-std::vector<double> conservative_fluxes(vtkUnstructuredGrid* grid, const Vec3& origin,
-                                        const Vec3& normal, const RegionOf& region_of,
-                                        vtkIdType regions, const FrameRates& rates,
-                                        const ContinuityForm& form);
+/// The conservative flux through one plane.
+struct PlaneFlux {
+  std::vector<double> regions; ///< F per region (index = region id) [m^3/s]
+  double wall = 0.0;           ///< W: the moving wall's share downstream of the plane [m^3/s]
+};
+
+/// F per region (`regions` of them) and W through the plane (origin, unit normal n, positive
+/// downstream) of `grid` (linear tetrahedra; its connectivity, with `state`'s fields).
+/// InputError when the grid holds other cells.
+PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& state,
+                              const Vec3& origin, const Vec3& normal, const RegionOf& region_of,
+                              vtkIdType regions, const ContinuityForm& form);
 
 } // namespace tearflow::analysis

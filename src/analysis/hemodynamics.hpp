@@ -46,6 +46,9 @@ struct Analysis {
   /// How Q was measured: "conservative" (the solver's conserved flux), "plane_integral" (of
   /// the interpolated velocity; the run's case was not found) or "measured".
   std::string flow_method = "measured";
+  /// Of the conservative flows, how many came from their step's stage (balanced to the
+  /// Newton tolerance; the others are estimates from one frame, analysis/conservative_flux).
+  std::size_t stage_frames = 0;
   std::vector<double> time; ///< per frame [s]
   std::vector<LandmarkSeries> series;
   std::size_t peak_systole = 0; ///< frame index

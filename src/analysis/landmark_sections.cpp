@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <regex>
 
 #include <vtk3DLinearGridPlaneCutter.h>
@@ -24,6 +25,7 @@
 #include <vtkPolyData.h>
 #include <vtkStringArray.h>
 #include <vtkThreshold.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -52,7 +54,7 @@ struct PlaneSection {
   vtkSmartPointer<vtkPointSet> regions; // cell and point data "RegionId"
   vtkSmartPointer<vtkCellLocator> locator;
   vtkIdType region_count = 0;
-  std::vector<double> conservative_flow; // per region, when the continuity form is known
+  std::optional<PlaneFlux> flux; // when the step's continuity state is known
 
   /// The region of the section cell nearest to `p`, and the distance to it.
   std::pair<vtkIdType, double> region_at(const Vec3& p) const {
@@ -167,6 +169,22 @@ vtkSmartPointer<vtkUnstructuredGrid> deformed_fluid(vtkSmartPointer<vtkUnstructu
     const vtkIdType fluid = names->LookupValue("fluid");
     if (fluid < 0)
       input_error("frame '{}': several volume regions and none is called 'fluid'", vtu.string());
+    // The nodes the fluid shares with the wall (its outer wall and the flap): the moving
+    // wall's share of the conservative flux is integrated over the faces they span.
+    auto on_wall = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    on_wall->SetName(kOnWallArray);
+    on_wall->SetNumberOfTuples(grid->GetNumberOfPoints());
+    on_wall->FillValue(0);
+    for (vtkIdType cell = 0; cell < grid->GetNumberOfCells(); ++cell) {
+      if (static_cast<vtkIdType>(region->GetTuple1(cell)) == fluid)
+        continue;
+      vtkIdType n = 0;
+      const vtkIdType* ids = nullptr;
+      grid->GetCellPoints(cell, n, ids);
+      for (vtkIdType a = 0; a < n; ++a)
+        on_wall->SetValue(ids[a], 1);
+    }
+    grid->GetPointData()->AddArray(on_wall);
     auto threshold = vtkSmartPointer<vtkThreshold>::New();
     threshold->SetInputData(grid);
     threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
@@ -242,7 +260,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path
 
 std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
                                              const geometry::Landmarks& landmarks,
-                                             const std::string& frame, const FrameRates& rates,
+                                             const std::string& frame, const ContinuityState* state,
                                              const ContinuityForm* form) {
   std::vector<SectionValues> values;
   PlaneSection section;
@@ -261,10 +279,10 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
       ++section_id;
       cut_origin = l.origin;
       cut_normal = n;
-      if (section.regions && form != nullptr)
-        section.conservative_flow = conservative_fluxes(
-            grid, l.origin, n, [&](const Vec3& p) { return section.region_at(p).first; },
-            section.region_count, rates, *form);
+      if (section.regions && state != nullptr && form != nullptr)
+        section.flux = conservative_fluxes(
+            grid, *state, l.origin, n, [&](const Vec3& p) { return section.region_at(p).first; },
+            section.region_count, *form);
     }
     if (!section.regions)
       input_error("{}: the plane of landmark '{}' (origin ({:.2f}, {:.2f}, {:.2f}) mm) misses "
@@ -281,8 +299,10 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
                   frame, l.name, q[0] / units::mm, q[1] / units::mm, q[2] / units::mm,
                   distance / units::mm);
     v.flow_interpolated = v.flow;
-    if (!section.conservative_flow.empty())
-      v.flow = section.conservative_flow[static_cast<std::size_t>(region)];
+    if (section.flux) {
+      v.flow = section.flux->regions[static_cast<std::size_t>(region)];
+      v.wall_outflow = section.flux->wall;
+    }
     if (const int k = station_of(l); k > 0)
       stations[k][l.lumen] = {section_id, region};
     values.push_back(v);

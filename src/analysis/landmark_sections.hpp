@@ -39,7 +39,8 @@ std::vector<FlowFrame> read_pvd(const std::filesystem::path& pvd);
 
 /// Reads a frame's VTU; InputError naming the file when it cannot be read or lacks the point
 /// fields `velocity` (3 components) or `pressure`. A frame of a fluid-structure run is
-/// reduced to its `fluid` region and moved by its `displacement` field: the deformed lumen.
+/// reduced to its `fluid` region and moved by its `displacement` field: the deformed lumen;
+/// the nodes it shares with the wall get the point field `on_wall` (kOnWallArray).
 vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path& vtu);
 
 /// The integrals over one landmark's lumen section, SI.
@@ -50,16 +51,21 @@ struct SectionValues {
   double pressure = 0.0;                   ///< area-mean pressure [Pa]
   double max_velocity = 0.0;               ///< largest through-plane velocity u.n [m/s]
   double wall_displacement = 0.0;          ///< largest |displacement| on the section (its rim) [m]
+  /// The moving wall's outflow downstream of the plane (analysis/conservative_flux.hpp, W):
+  /// Q - W is the same at planes with the same outlets below them [m^3/s]; 0 on rigid walls.
+  double wall_outflow = 0.0;
 };
 
 /// The section values of every landmark in `landmarks.planes` (same order) on `grid`; with
-/// the run's continuity form, `flow` is the conservative flux (analysis/conservative_flux.hpp)
-/// of the landmark's region, else the plane integral. InputError naming the landmark and
-/// `frame` when a plane misses the fluid, when a lumen point is not in the plane's fluid
+/// the step's continuity state and the run's form, `flow` is the conservative flux
+/// (analysis/conservative_flux.hpp) of the landmark's region at the state's time level and
+/// `wall_outflow` its plane's W, else `flow` is the plane integral. InputError naming the landmark
+/// and `frame` when a plane misses the fluid, when a lumen point is not in the plane's fluid
 /// section, or when the TLk and FLk points of a station fall in one connected region.
 std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
                                              const geometry::Landmarks& landmarks,
-                                             const std::string& frame, const FrameRates& rates = {},
+                                             const std::string& frame,
+                                             const ContinuityState* state = nullptr,
                                              const ContinuityForm* form = nullptr);
 
 /// The station number k of a paired landmark "TLk" / "FLk" (0 for other names).

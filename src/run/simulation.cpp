@@ -324,17 +324,22 @@ void Simulation::set_state(int step, const std::vector<double>& U,
 }
 
 void Simulation::write_frame() {
-  const std::vector<double> U = gather(solution());
+  const std::vector<double> U = gather(solution()), Udot = gather(acceleration());
   const std::vector<double> D = fsi_ ? gather(fsi_->displacement()) : std::vector<double>{};
   if (fem::mpi_rank(dmesh_->comm()) != 0)
     return;
   const int bs = block();
+  // du/dt as the integrator holds it: with the frame before (one step earlier) it gives the
+  // stage the step's equations held at, for the conservative flux (analysis/conservative_flux).
   io::PointField velocity{"velocity", 3, {}}, pressure{"pressure", 1, {}};
+  io::PointField acceleration{"acceleration", 3, {}};
   io::PointField displacement{"displacement", 3, {}}, wall_pressure{"wall_pressure", 1, {}};
   velocity.values.reserve(3 * mesh_.points.size());
   for (Index n = 0; n < mesh_.num_nodes(); ++n) {
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
       velocity.values.push_back(U[bs * n + c]);
+      acceleration.values.push_back(Udot[bs * n + c]);
+    }
     pressure.values.push_back(U[bs * n + 3]);
     if (!fsi_)
       continue;
@@ -343,9 +348,10 @@ void Simulation::write_frame() {
     wall_pressure.values.push_back(U[bs * n + physics::FsiProblem::wall_pressure]);
   }
   if (fsi_) // ParaView: "Warp By Vector" with displacement shows the deformed geometry
-    output_->series->write(step_, time(), {velocity, pressure, displacement, wall_pressure});
+    output_->series->write(step_, time(),
+                           {velocity, pressure, acceleration, displacement, wall_pressure});
   else
-    output_->series->write(step_, time(), {velocity, pressure});
+    output_->series->write(step_, time(), {velocity, pressure, acceleration});
 }
 
 RunSummary Simulation::run(const RunOptions& options) {
