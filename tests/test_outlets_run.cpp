@@ -204,6 +204,29 @@ TEST(OutletRun, PeriodicityToleranceStopsTheRunOrRunsToMaxCycles) {
   EXPECT_THAT(b.output, testing::HasSubstr("not periodic within 1e-06 after 3 cycles"));
 }
 
+TEST(OutletRun, PeriodicityByTheCyclesNumbers) {
+  // measure: pressures_and_splits: the change is the largest relative change of the inlet's
+  // systolic, diastolic and mean pressure (one outlet: its split is always 100 %), here
+  // recomputed from cycles.json; the run stops at the first cycle below the tolerance.
+  const fs::path dir = fresh_dir("periodic-metrics");
+  const Result r = run("run " + (data / "runs/small_pipe_rcr_periodic_metrics.yaml").string() +
+                       " -o " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(dir / "cycles.json");
+  const nlohmann::json c = nlohmann::json::parse(in)["cycles"];
+  ASSERT_GE(c.size(), 2u);
+  for (size_t k = 1; k < c.size(); ++k) {
+    double expected = 0;
+    for (const char* key : {"systolic_pressure_Pa", "diastolic_pressure_Pa", "mean_pressure_Pa"}) {
+      const double a = c[k - 1]["faces"]["inlet"][key], b = c[k]["faces"]["inlet"][key];
+      expected = std::max(expected, std::abs(b - a) / std::abs(b));
+    }
+    EXPECT_NEAR(double(c[k]["change_from_previous"]), expected, 1e-12) << "cycle " << k + 1;
+    EXPECT_EQ(k + 1 == c.size(), expected < 1e-3) << "cycle " << k + 1; // stops at the first
+  }
+  EXPECT_LT(c.size(), 5u); // before max_cycles
+}
+
 TEST(VerifyMetric, NanOrMissingErrorsFail) {
   // The verification drivers take their max errors with worst_of: a NaN (a diverged run, a
   // missing sample) must fail the metric instead of vanishing in std::max.

@@ -142,4 +142,16 @@ TEST(CycleSummary, StatisticsOfAKnownCycle) {
       p *= 1.01;
   EXPECT_NEAR(analysis::cycle_change(c, next), 0.01 * 120.0 / (1.01 * 120.0), 1e-3 * 0.01);
   EXPECT_EQ(analysis::cycle_change(c, c), 0.0);
+
+  // By the cycle's numbers: the inlet's pressures 1 % larger (each of systolic, diastolic
+  // and mean: a change of 0.01 / 1.01); then outlet a's flow 10 % larger, which moves its
+  // split from 66.67 % to 68.75 % (2.08 points: 0.0208) and outweighs the pressures.
+  const analysis::CycleStats pressures = analysis::summarize_cycle(next);
+  EXPECT_NEAR(analysis::metrics_change(st, pressures), 0.01 / 1.01, 1e-9);
+  analysis::CycleSamples more = c;
+  for (double& q : more.faces[0].flow)
+    q *= 1.1;
+  EXPECT_NEAR(analysis::metrics_change(st, analysis::summarize_cycle(more)),
+              (2.2 / 3.2 - 2.0 / 3.0), 1e-9);
+  EXPECT_EQ(analysis::metrics_change(st, st), 0.0);
 }

@@ -74,6 +74,26 @@ double cycle_change(const CycleSamples& previous, const CycleSamples& current) {
   return change;
 }
 
+double metrics_change(const CycleStats& previous, const CycleStats& current) {
+  if (previous.faces.size() != current.faces.size())
+    throw std::logic_error("cycles of different faces cannot be compared");
+  double change = 0.0;
+  for (size_t i = 0; i < current.faces.size(); ++i) {
+    const FaceCycleStats &a = previous.faces[i], &b = current.faces[i];
+    if (b.split_percent && a.split_percent) { // an outlet
+      change = std::max(change, std::abs(*b.split_percent - *a.split_percent) / 100.0);
+      continue;
+    }
+    if (b.volume >= 0.0)
+      continue; // not an inlet (no net inflow): a wall, the fluid-wall interface
+    for (const auto member :
+         {&FaceCycleStats::systolic, &FaceCycleStats::diastolic, &FaceCycleStats::mean})
+      if (b.*member != 0.0)
+        change = std::max(change, std::abs(b.*member - a.*member) / std::abs(b.*member));
+  }
+  return change;
+}
+
 nlohmann::json cycles_to_json(double period, const std::vector<CycleStats>& cycles) {
   nlohmann::json out;
   out["period_s"] = period;

@@ -8,7 +8,10 @@
 // the time integrator). The change between cycles c - 1 and c is, over every outlet and
 // both its pressure P and flow Q,
 //   max_k |X_c(t_k) - X_{c-1}(t_k)| / max_k |X_c(t_k)|,
-// the largest sample-by-sample difference relative to the cycle's peak magnitude.
+// the largest sample-by-sample difference relative to the cycle's peak magnitude. A run that
+// is analysed by its cycle's numbers may stop on those instead (metrics_change): the largest
+// of every inlet's (face with net inflow) systolic, diastolic and mean pressure's relative change
+// and every outlet's flow split's change in points / 100.
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,6 +53,9 @@ CycleStats summarize_cycle(const CycleSamples& samples);
 
 /// The relative change between two cycles' outlet samples (definition above).
 double cycle_change(const CycleSamples& previous, const CycleSamples& current);
+
+/// The change of the cycle's numbers (definition above); 0 when nothing compares.
+double metrics_change(const CycleStats& previous, const CycleStats& current);
 
 /// {"period_s", "cycles": [{cycle, t_begin_s, t_end_s, change, faces: {name: {...}}}]},
 /// every quantity with its unit in the key, pressures in Pa and mmHg.

@@ -143,13 +143,17 @@ TimeSpec read_time(const YamlValue& v, RunLength& length) {
     length.node = *cycles;
   }
   if (auto p = v.get("periodicity")) {
-    p->check_keys({"tolerance", "max_cycles"});
+    p->check_keys({"tolerance", "max_cycles", "measure"});
     time.periodicity_tolerance =
         p->require("tolerance", "the largest cycle-to-cycle change accepted as periodic, "
                                 "relative, a number in (0, 1)")
             .in_range(0.0, 1.0);
     if (time.periodicity_tolerance <= 0.0)
       p->get("tolerance")->fail_expected("a number in (0, 1)");
+    if (auto m = p->get("measure"))
+      time.periodicity_measure = m->choice({"waveforms", "pressures_and_splits"}) == "waveforms"
+                                     ? TimeSpec::Periodicity::waveforms
+                                     : TimeSpec::Periodicity::pressures_and_splits;
     length.max_cycles = 10;
     if (auto m = p->get("max_cycles"))
       length.max_cycles = m->integer(2);

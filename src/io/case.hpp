@@ -41,8 +41,14 @@ struct TimeSpec {
   /// Cardiac cycle [s]: the waveforms' period unless given; 0 when everything is constant.
   double period = 0.0;
   int steps_per_cycle = 0; ///< period / step when the period is a multiple of the step
-  /// Stop once every outlet's cycle-to-cycle change is below this (0: run all steps).
+  /// Stop once the cycle-to-cycle change is below this (0: run all steps).
   double periodicity_tolerance = 0.0;
+  /// What that change measures (analysis/cycle_summary.hpp): every outlet's flow and pressure
+  /// waveform sample by sample, or the cycle's numbers (inlet pressures, outlet splits).
+  enum class Periodicity {
+    waveforms,
+    pressures_and_splits
+  } periodicity_measure = Periodicity::waveforms;
   /// Start the RCR outlets (and the pressure field) from the periodic state of the 0D model
   /// of the outlets instead of their initial_distal_pressure and rest.
   bool start_from_0d = true;

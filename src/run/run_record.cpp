@@ -10,8 +10,10 @@
 
 namespace tearflow::run {
 
-RunRecord::RunRecord(std::vector<std::string> outlets, int steps_per_cycle, double period)
-    : outlets_(std::move(outlets)), steps_per_cycle_(steps_per_cycle), period_(period) {}
+RunRecord::RunRecord(std::vector<std::string> outlets, int steps_per_cycle, double period,
+                     bool by_metrics)
+    : outlets_(std::move(outlets)), steps_per_cycle_(steps_per_cycle), period_(period),
+      by_metrics_(by_metrics) {}
 
 std::optional<analysis::CycleStats> RunRecord::add(StepSample sample) {
   const int step = sample.step;
@@ -29,7 +31,10 @@ std::optional<analysis::CycleStats> RunRecord::add(StepSample sample) {
   analysis::CycleStats stats = analysis::summarize_cycle(current);
   if (samples_.size() >= static_cast<size_t>(2 * n + 1) &&
       samples_[samples_.size() - 2 * n - 1].step == step - 2 * n)
-    stats.change = analysis::cycle_change(cycle_samples(cycle - 1), current);
+    stats.change =
+        by_metrics_
+            ? analysis::metrics_change(analysis::summarize_cycle(cycle_samples(cycle - 1)), stats)
+            : analysis::cycle_change(cycle_samples(cycle - 1), current);
   cycles_.push_back(stats);
   return stats;
 }

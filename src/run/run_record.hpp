@@ -29,7 +29,9 @@ class RunRecord {
 public:
   /// `outlets` name the traction-outlet faces (flow split, periodicity); steps_per_cycle 0
   /// when the run has no cardiac period.
-  RunRecord(std::vector<std::string> outlets, int steps_per_cycle, double period);
+  /// `by_metrics`: the cycle-to-cycle change is metrics_change, else cycle_change.
+  RunRecord(std::vector<std::string> outlets, int steps_per_cycle, double period,
+            bool by_metrics = false);
 
   static constexpr const char* csv_header =
       "step,time_s,face,flow_m3_per_s,pressure_Pa,area_m2,reversed_flow_m3_per_s,"
@@ -56,6 +58,7 @@ private:
   std::vector<std::string> outlets_;
   int steps_per_cycle_ = 0;
   double period_ = 0.0;
+  bool by_metrics_ = false;
   std::vector<StepSample> samples_;
   std::vector<analysis::CycleStats> cycles_;
 };

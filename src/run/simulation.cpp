@@ -365,7 +365,9 @@ RunSummary Simulation::run(const RunOptions& options) {
     std::filesystem::create_directories(output_->dir);
     output_->series = std::make_unique<io::VtuSeries>(mesh_, output_->dir, "flow");
   }
-  RunRecord record(outlet_faces(), case_.time.steps_per_cycle, case_.time.period);
+  RunRecord record(outlet_faces(), case_.time.steps_per_cycle, case_.time.period,
+                   case_.time.periodicity_measure ==
+                       io::TimeSpec::Periodicity::pressures_and_splits);
 
   if (options.restart) {
     const io::Checkpoint c = io::read_checkpoint(checkpoint_file);
