@@ -106,6 +106,23 @@
   series('area_change_lumina', 'Relative area change, TL and FL', [...tl, ...fl],
          'area_over_A_0', 'A(t) / A_0 [-]');
 
+  // The flap's displacement toward the FL at the stations (FSI runs), from the cycle's start.
+  const flap = [];
+  data.runs.forEach((run, r) => {
+    stations.forEach((k, i) => {
+      const s = run.series['TL' + k];
+      const d = s && s.flap_displacement_toward_FL_mm;
+      if (!d || d.some((v) => v === null || !Number.isFinite(v))) return;
+      flap.push({label: label(run, 'station ' + k), showLine: true, pointRadius: 0,
+                 borderWidth: 1.5, borderColor: palette[i], borderDash: dashes[r % dashes.length],
+                 data: s.time_s.map((t, j) => ({x: t - s.time_s[0], y: d[j] - d[0]}))});
+    });
+  });
+  if (flap.length)
+    figure('flap_displacement', 'Flap displacement toward the FL at the stations, from the ' +
+           'cycle\'s start', {type: 'scatter', data: {datasets: flap},
+            options: axes('time in the analysed cycle [s]', 'displacement [mm]', true)});
+
   // A_max per landmark, one bar per run.
   const names = [];
   data.runs.forEach((run) => Object.keys(run.metrics.landmarks || {}).forEach((n) => {

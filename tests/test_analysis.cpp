@@ -123,9 +123,10 @@ TEST(Analysis, RigidPipeRecoversFlowAreaAndPressure) {
   std::ifstream csv(dir / "analysis" / "inlet.csv");
   std::string header;
   std::getline(csv, header);
-  EXPECT_EQ(header, "time_s,flow_m3_per_s,flow_mL_per_s,area_m2,area_mm2,area_over_A_0,"
-                    "mean_pressure_Pa,mean_pressure_mmHg,max_through_plane_velocity_m_per_s,"
-                    "wall_displacement_mm,flow_interpolated_m3_per_s");
+  EXPECT_EQ(header,
+            "time_s,flow_m3_per_s,flow_mL_per_s,area_m2,area_mm2,area_over_A_0,"
+            "mean_pressure_Pa,mean_pressure_mmHg,max_through_plane_velocity_m_per_s,"
+            "wall_displacement_mm,flow_interpolated_m3_per_s,flap_displacement_toward_FL_mm");
   int rows = 0;
   for (std::string line; std::getline(csv, line);)
     ++rows;

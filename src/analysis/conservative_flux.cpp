@@ -176,7 +176,19 @@ PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& 
                               const Vec3& origin, const Vec3& normal, const RegionOf& region_of,
                               vtkIdType regions, const ContinuityForm& form) {
   PlaneFlux out;
-  out.regions.assign(static_cast<std::size_t>(std::max<vtkIdType>(regions, 0)), 0.0);
+  const auto region_count = static_cast<std::size_t>(std::max<vtkIdType>(regions, 0));
+  out.regions.assign(region_count, 0.0);
+  // The downstream parts: far-side nodes joined by the tetrahedra's edges (union-find).
+  std::vector<vtkIdType> parent(state.x.size());
+  for (std::size_t i = 0; i < parent.size(); ++i)
+    parent[i] = static_cast<vtkIdType>(i);
+  const auto root = [&](vtkIdType i) {
+    while (parent[static_cast<std::size_t>(i)] != i)
+      i = parent[static_cast<std::size_t>(i)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+    return i;
+  };
+  std::vector<vtkIdType> region_node(region_count, -1); // a far-side node of each region's layer
   const double rho = form.fluid.density;
   const auto downstream_of = [&](vtkIdType id) {
     return dot(state.x[static_cast<std::size_t>(id)] - origin, normal) > 0;
@@ -198,6 +210,14 @@ PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& 
       d[a] = dot(x[a] - origin, normal);
       downstream += d[a] > 0 ? 1 : 0;
     }
+    vtkIdType first_far = -1;
+    for (int a = 0; a < 4; ++a)
+      if (d[a] > 0) {
+        if (first_far < 0)
+          first_far = ids[a];
+        else
+          parent[static_cast<std::size_t>(root(ids[a]))] = root(first_far);
+      }
     if (downstream == 0 || downstream == 4)
       continue; // psi is constant here: no share of the layer
     // A point of the section inside this tetrahedron (the mean of its cut edges' crossings)
@@ -213,6 +233,8 @@ PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& 
     const vtkIdType region = region_of((1.0 / crossings) * on_plane);
     if (region < 0 || region >= regions)
       continue;
+    if (region_node[static_cast<std::size_t>(region)] < 0)
+      region_node[static_cast<std::size_t>(region)] = first_far;
 
     // The element's share of F: grad psi . (u - tau_M / rho r_M), with the solver's kernel
     // for r_M (u.grad u on the convective velocity u - w, grad p, du/dt) and tau_M.
@@ -242,6 +264,7 @@ PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& 
         volume * (dot(grad_psi, u_mean) - stab.tau_m / rho * dot(grad_psi, r_mean));
   }
   // W = int_wall psi u.n dA, exact for the P1 psi and u: the mass matrix A (1 + delta_ab) / 12.
+  std::map<vtkIdType, double> wall; // per downstream part (its root)
   for (const auto& t : state.wall_triangles) {
     const std::array<std::size_t, 3> k{static_cast<std::size_t>(t[0]),
                                        static_cast<std::size_t>(t[1]),
@@ -252,9 +275,17 @@ PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& 
       if (!downstream_of(t[a]))
         continue;
       for (int b = 0; b < 3; ++b)
-        out.wall += (a == b ? 2.0 : 1.0) / 12.0 * dot(state.u[k[b]], area_normal);
+        wall[root(t[a])] += (a == b ? 2.0 : 1.0) / 12.0 * dot(state.u[k[b]], area_normal);
     }
   }
+  out.wall.assign(region_count, 0.0);
+  out.part.assign(region_count, -1);
+  for (std::size_t r = 0; r < region_count; ++r)
+    if (region_node[r] >= 0) {
+      out.part[r] = root(region_node[r]);
+      const auto it = wall.find(out.part[r]);
+      out.wall[r] = it == wall.end() ? 0.0 : it->second;
+    }
   return out;
 }
 

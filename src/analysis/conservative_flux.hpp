@@ -24,7 +24,8 @@
 // On a moving wall the boundary integral also holds the wall's share, W = int_wall psi u.n dA
 // (u = the wall's velocity there): F - W is the outflow downstream of the plane, the same for
 // every plane with the same outlets below it; W_A - W_B is the rate of the volume stored
-// between planes A and B.
+// between planes A and B. Where a plane cuts the lumen twice, psi is taken per cut: 1 on the
+// far-side nodes connected to that cut's layer only.
 //
 // The solver poses the step from t_n to t_{n+1} at the generalized-alpha stage: u and the
 // mesh at t_n + alpha_f dt, du/dt at t_n + alpha_m dt, p at t_{n+1}, tau_M from u_n on the
@@ -111,7 +112,14 @@ using RegionOf = std::function<vtkIdType(const Vec3& point)>;
 /// The conservative flux through one plane.
 struct PlaneFlux {
   std::vector<double> regions; ///< F per region (index = region id) [m^3/s]
-  double wall = 0.0;           ///< W: the moving wall's share downstream of the plane [m^3/s]
+  /// W per region: the moving wall's share in the part of the fluid downstream of the plane
+  /// that the region's layer bounds [m^3/s]. A plane can cut the aorta twice (a station
+  /// below the arch and the ascending aorta): each cut has its own downstream part, the
+  /// nodes on the plane's far side connected to its layer.
+  std::vector<double> wall;
+  /// Which downstream part each region bounds (regions that share one, e.g. TL and FL joined
+  /// below by the exit tear, share its W); -1 for a region the plane's layer does not reach.
+  std::vector<vtkIdType> part;
 };
 
 /// F per region (`regions` of them) and W through the plane (origin, unit normal n, positive

@@ -327,6 +327,16 @@ json metrics_json(const Analysis& a) {
     s.update(pressure_json("dP_TL_minus_FL_peak_systole", dp[a.peak_systole]));
     s.update(pressure_json("dP_TL_minus_FL_end_diastole", dp[a.end_diastole]));
     s.update(pressure_json("dP_TL_minus_FL_mean", time_mean(a.time, dp)));
+    // The flap's excursion over the cycle toward the FL (FSI runs): its largest minus its
+    // smallest displacement at the station.
+    if (const std::vector<double> flap =
+            sampled(*tl, [](const SectionValues& v) { return v.flap_displacement; });
+        all_finite(flap)) {
+      const auto [lo, hi] = std::minmax_element(flap.begin(), flap.end());
+      s["flap_excursion_mm"] = (*hi - *lo) / units::mm;
+      s["flap_displacement_peak_systole_minus_end_diastole_mm"] =
+          (flap[a.peak_systole] - flap[a.end_diastole]) / units::mm;
+    }
     // Q_TL + Q_FL against the undivided aorta above and below the dissection: the largest
     // difference over the frames relative to the reference's peak |Q|. For a simulation also
     // that of the plane integrals of the interpolated velocity, which the discretisation does
@@ -336,7 +346,10 @@ json metrics_json(const Analysis& a) {
       double worst = 0, peak = 0, stored = 0;
       for (std::size_t i = 0; i < a.time.size(); ++i) {
         // On a moving wall the volume between the planes changes at W_station - W_ref.
-        const double stored_rate = tl->samples[i].wall_outflow - ref.samples[i].wall_outflow;
+        const SectionValues &t = tl->samples[i], &f = fl->samples[i];
+        const double downstream =
+            t.wall_outflow + (f.wall_part != t.wall_part ? f.wall_outflow : 0.0);
+        const double stored_rate = downstream - ref.samples[i].wall_outflow;
         stored = std::max(stored, std::abs(stored_rate));
         const double sum = tl->samples[i].*q + fl->samples[i].*q;
         const double difference = std::abs(sum - stored_rate - ref.samples[i].*q);
@@ -406,16 +419,17 @@ void write_analysis(const Analysis& a, const std::filesystem::path& dir) {
   for (const LandmarkSeries& s : a.series) {
     std::string csv = "time_s,flow_m3_per_s,flow_mL_per_s,area_m2,area_mm2,area_over_A_0,"
                       "mean_pressure_Pa,mean_pressure_mmHg,max_through_plane_velocity_m_per_s,"
-                      "wall_displacement_mm,flow_interpolated_m3_per_s\n";
+                      "wall_displacement_mm,flow_interpolated_m3_per_s,"
+                      "flap_displacement_toward_FL_mm\n";
     const double a0 = s.samples.front().area;
     for (std::size_t i = 0; i < a.time.size(); ++i) {
       const SectionValues& v = s.samples[i];
       csv += fmt::format("{:.10g},{:.10e},{:.10g},{:.10e},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{"
-                         ":.10g},{:.10e}\n",
+                         ":.10g},{:.10e},{:.10g}\n",
                          a.time[i], v.flow, v.flow / units::mL, v.area,
                          v.area / (units::mm * units::mm), v.area / a0, v.pressure,
                          v.pressure / units::mmHg, v.max_velocity, v.wall_displacement / units::mm,
-                         v.flow_interpolated);
+                         v.flow_interpolated, v.flap_displacement / units::mm);
     }
     io::write_file_atomically(dir / (s.landmark.name + ".csv"), csv);
   }

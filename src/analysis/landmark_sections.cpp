@@ -157,6 +157,79 @@ SectionValues integrate(vtkPointSet* regions, vtkIdType region) {
   return v;
 }
 
+/// The rim points (on edges that one polygon of the region holds) of region `region`.
+std::vector<vtkIdType> rim_points(vtkPolyData* section, vtkIdType region) {
+  vtkDataArray* ids = section->GetCellData()->GetArray(kRegion);
+  std::map<std::pair<vtkIdType, vtkIdType>, int> edges;
+  for (vtkIdType c = 0; c < section->GetNumberOfCells(); ++c) {
+    if (static_cast<vtkIdType>(ids->GetTuple1(c)) != region)
+      continue;
+    vtkIdType n = 0;
+    const vtkIdType* p = nullptr;
+    section->GetCellPoints(c, n, p);
+    for (vtkIdType a = 0; a < n; ++a) {
+      const vtkIdType i = p[a], j = p[(a + 1) % n];
+      ++edges[{std::min(i, j), std::max(i, j)}];
+    }
+  }
+  std::vector<vtkIdType> rim;
+  for (const auto& [edge, count] : edges)
+    if (count == 1) {
+      rim.push_back(edge.first);
+      rim.push_back(edge.second);
+    }
+  std::sort(rim.begin(), rim.end());
+  rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
+  return rim;
+}
+
+/// The flap's displacement toward the false lumen at a station: the mean of d . e over the
+/// rim points of each lumen that face the other lumen across the flap (nearer to it than
+/// twice the smallest TL-FL gap, the flap's thickness at the station), e the unit vector
+/// from the TL's lumen point to the FL's in the plane. NaN without a displacement field.
+double flap_displacement(vtkPointSet* regions, vtkIdType tl, vtkIdType fl, const Vec3& tl_point,
+                         const Vec3& fl_point, const Vec3& normal) {
+  auto* section = vtkPolyData::SafeDownCast(regions);
+  vtkDataArray* d = regions->GetPointData()->GetArray(kDisplacement);
+  if (section == nullptr || d == nullptr)
+    return std::nan("");
+  Vec3 e = fl_point - tl_point;
+  e = e - dot(e, normal) * normal;
+  if (dot(e, e) == 0.0)
+    return std::nan("");
+  e = unit(e);
+  const std::vector<vtkIdType> rims[2] = {rim_points(section, tl), rim_points(section, fl)};
+  const auto point = [&](vtkIdType i) {
+    Vec3 x;
+    section->GetPoint(i, x.data());
+    return x;
+  };
+  // Each rim point's distance to the other lumen's rim.
+  std::vector<double> gap[2];
+  double thinnest = std::numeric_limits<double>::infinity();
+  for (int side = 0; side < 2; ++side)
+    for (vtkIdType i : rims[side]) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (vtkIdType j : rims[1 - side]) {
+        const Vec3 r = point(i) - point(j);
+        nearest = std::min(nearest, dot(r, r));
+      }
+      gap[side].push_back(std::sqrt(nearest));
+      thinnest = std::min(thinnest, gap[side].back());
+    }
+  double sum = 0.0;
+  int count = 0;
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t k = 0; k < rims[side].size(); ++k)
+      if (gap[side][k] <= 2.0 * thinnest) {
+        Vec3 u;
+        d->GetTuple(rims[side][k], u.data());
+        sum += dot(u, e);
+        ++count;
+      }
+  return count > 0 ? sum / count : std::nan("");
+}
+
 /// The fluid of a frame in its deformed position: an FSI frame holds the fluid and the wall
 /// (cell array `region`, names in field data) and the nodes' displacement from the reference
 /// mesh; the landmark planes cut the lumen as it is at that instant.
@@ -268,6 +341,8 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
   Vec3 cut_origin{}, cut_normal{};
   // per station: (section id, region id) of its TL and FL landmark
   std::map<int, std::map<std::string, std::pair<int, vtkIdType>>> stations;
+  // per station: (lumen point on the plane, index in `values`) of its TL and FL landmark
+  std::map<int, std::map<std::string, std::pair<Vec3, std::size_t>>> points;
   for (const geometry::Landmark& l : landmarks.planes) {
     const Vec3 n = unit(l.normal);
     // One plane when the normals agree and the origin lies on the last cut's plane (TLk / FLk
@@ -301,10 +376,25 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
     v.flow_interpolated = v.flow;
     if (section.flux) {
       v.flow = section.flux->regions[static_cast<std::size_t>(region)];
-      v.wall_outflow = section.flux->wall;
+      v.wall_outflow = section.flux->wall[static_cast<std::size_t>(region)];
+      v.wall_part = section.flux->part[static_cast<std::size_t>(region)];
     }
-    if (const int k = station_of(l); k > 0)
+    if (const int k = station_of(l); k > 0) {
       stations[k][l.lumen] = {section_id, region};
+      points[k][l.lumen] = {q, values.size()};
+      const auto tl = stations[k].find("TL"), fl = stations[k].find("FL");
+      if (tl != stations[k].end() && fl != stations[k].end() && tl->second.first == section_id &&
+          fl->second.first == section_id && tl->second.second != fl->second.second) {
+        const auto& [tl_point, tl_index] = points[k]["TL"];
+        const auto& [fl_point, fl_index] = points[k]["FL"];
+        const double flap = flap_displacement(section.regions, tl->second.second, fl->second.second,
+                                              tl_point, fl_point, n);
+        v.flap_displacement = flap; // this landmark's, and its partner's already measured
+        for (const std::size_t index : {tl_index, fl_index})
+          if (index < values.size())
+            values[index].flap_displacement = flap;
+      }
+    }
     values.push_back(v);
   }
   for (const auto& [k, lumina] : stations) {

@@ -54,6 +54,13 @@ struct SectionValues {
   /// The moving wall's outflow downstream of the plane (analysis/conservative_flux.hpp, W):
   /// Q - W is the same at planes with the same outlets below them [m^3/s]; 0 on rigid walls.
   double wall_outflow = 0.0;
+  /// Which downstream part of its plane wall_outflow is of (TLk and FLk joined below share
+  /// one; analysis/conservative_flux.hpp); -1 when unknown.
+  long wall_part = -1;
+  /// At a paired station (TLk and FLk alike): the flap's displacement toward the false lumen,
+  /// the mean over the lumina's rims that face each other across it [m]; NaN elsewhere and
+  /// without a displacement field.
+  double flap_displacement = std::nan("");
 };
 
 /// The section values of every landmark in `landmarks.planes` (same order) on `grid`; with
