@@ -80,6 +80,43 @@ TEST(CliRun, RestartReproducesUninterruptedRun) {
   EXPECT_EQ(frames, 3u);
 }
 
+TEST(CliRun, RestartOfAChangedCaseIsRefusedNamingTheChange) {
+  // The probe's cases: time.step 0.01 -> 0.005 s (faces.csv's time then jumped back), an
+  // outlet changed, and a case that ends before the checkpoint's step. Each is refused with
+  // what changed; the run's files stay as they were.
+  const fs::path dir = fresh_dir("restart-changed");
+  ASSERT_EQ(
+      run("run " + (data / "runs/small_pipe_half.yaml").string() + " -q -o " + dir.string()).code,
+      0);
+  std::ifstream original_in(data / "runs/small_pipe.yaml");
+  const std::string original((std::istreambuf_iterator<char>(original_in)), {});
+  const auto restart = [&](const std::string& from, const std::string& to) {
+    std::string text = original;
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const fs::path file = dir.parent_path() / (dir.filename().string() + ".yaml");
+    std::ofstream(file) << text;
+    return run("run " + file.string() + " -q --restart -o " + dir.string());
+  };
+  std::ifstream faces_in(dir / "faces.csv");
+  const std::string faces((std::istreambuf_iterator<char>(faces_in)), {});
+
+  const Result step = restart("step: 0.01, steps: 6", "step: 0.005, steps: 12");
+  EXPECT_NE(step.code, 0);
+  EXPECT_THAT(step.output, testing::HasSubstr("time step: 0.01 s in the checkpoint; now 0.005 s"));
+  const Result outlet = restart("resistance: 1.0e8", "resistance: 2.0e8");
+  EXPECT_NE(outlet.code, 0);
+  EXPECT_THAT(outlet.output, testing::HasSubstr("face outlet: resistance 100000000 Pa s/m^3"));
+  EXPECT_THAT(outlet.output, testing::HasSubstr("now resistance 200000000 Pa s/m^3"));
+  const Result shorter = restart("steps: 6", "steps: 2");
+  EXPECT_NE(shorter.code, 0);
+  EXPECT_THAT(shorter.output, testing::HasSubstr("is at step 3 (t = 0.03 s), past the case's "
+                                                 "last step 2"));
+  std::ifstream after_in(dir / "faces.csv");
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after_in)), {}), faces);
+}
+
 TEST(CliRun, TwoRanksAgreeWithOne) {
   const fs::path one = fresh_dir("one"), two = fresh_dir("two");
   const std::string args = (data / "runs/small_pipe.yaml").string() + " -q -o ";

@@ -20,17 +20,6 @@
 
 namespace tearflow::io {
 
-void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out)
-      throw InputError(fmt::format("cannot write '{}'", tmp.string()));
-  }
-  std::filesystem::rename(tmp, path);
-}
-
 VtuSeries::VtuSeries(const mesh::Mesh& mesh, std::filesystem::path directory, std::string stem)
     : grid_(vtkSmartPointer<vtkUnstructuredGrid>::New()), directory_(std::move(directory)),
       stem_(std::move(stem)) {

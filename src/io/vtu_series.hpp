@@ -2,6 +2,7 @@
 // Results as ParaView reads them: one VTU per saved step and a `.pvd` collection with the
 // time values, rewritten atomically after every frame so that an interrupted run leaves a
 // valid series. Rank 0 writes; fields come in the input mesh's node order.
+#include "io/durable_file.hpp" // write_file_atomically, for the series' callers
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -44,9 +45,5 @@ private:
   std::string stem_;
   std::vector<std::pair<double, std::string>> frames_;
 };
-
-/// Writes `text` to `path` through a temporary file and a rename, so readers never see a
-/// partial file.
-void write_file_atomically(const std::filesystem::path& path, const std::string& text);
 
 } // namespace tearflow::io

@@ -66,12 +66,18 @@ analysis::CycleSamples RunRecord::cycle_samples(int cycle) const {
 std::string RunRecord::csv() const {
   std::string text = std::string(csv_header) + "\n";
   for (const StepSample& s : samples_)
-    for (const FaceSample& f : s.faces) {
-      const physics::FaceMeasure& m = f.measure;
-      text += fmt::format("{},{:.10g},{},{:.10e},{:.10e},{:.10e},{:.10e},{}\n", s.step, s.time,
-                          m.face, m.flow, m.pressure, m.area, m.reversed,
-                          f.distal_pressure ? fmt::format("{:.10e}", *f.distal_pressure) : "");
-    }
+    text += csv_rows(s);
+  return text;
+}
+
+std::string RunRecord::csv_rows(const StepSample& s) {
+  std::string text;
+  for (const FaceSample& f : s.faces) {
+    const physics::FaceMeasure& m = f.measure;
+    text += fmt::format("{},{:.10g},{},{:.10e},{:.10e},{:.10e},{:.10e},{}\n", s.step, s.time,
+                        m.face, m.flow, m.pressure, m.area, m.reversed,
+                        f.distal_pressure ? fmt::format("{:.10e}", *f.distal_pressure) : "");
+  }
   return text;
 }
 

@@ -47,6 +47,8 @@ public:
   void load_csv(const std::filesystem::path& file, int last_step);
 
   std::string csv() const;
+  /// The faces.csv rows of one step (no header).
+  static std::string csv_rows(const StepSample& sample);
   const std::vector<StepSample>& samples() const { return samples_; }
   const std::vector<analysis::CycleStats>& cycles() const { return cycles_; }
   nlohmann::json cycles_json() const { return analysis::cycles_to_json(period_, cycles_); }

@@ -16,6 +16,7 @@
 #include "mesh/readers.hpp"
 #include "mesh/region.hpp"
 #include "physics/fsi_problem.hpp"
+#include "run/run_fingerprint.hpp"
 #include "run/solid_simulation.hpp"
 #include "run/startup.hpp"
 
@@ -164,10 +165,9 @@ void Simulation::start_from_0d() {
     for (Index l = 0; l < dmesh_->num_owned(); ++l)
       u[block() * l + 3] = p0;
   }
-  if (fem::mpi_rank(dmesh_->comm()) == 0)
-    spdlog::info("start from the periodic 0D state at t = 0: pressure {:.1f} mmHg; distal "
-                 "pressures{}",
-                 p0 / units::mmHg, told.empty() ? " as given" : told);
+  start_notes_.push_back(fmt::format("start from the periodic 0D state at t = 0: pressure {:.1f} "
+                                     "mmHg; distal pressures{}",
+                                     p0 / units::mmHg, told.empty() ? " as given" : told));
   if (fsi_)
     load_wall(p0);
 }
@@ -229,10 +229,11 @@ void Simulation::load_wall(double p0) {
         std::max(largest, std::sqrt(all[bs * n] * all[bs * n] + all[bs * n + 1] * all[bs * n + 1] +
                                     all[bs * n + 2] * all[bs * n + 2]));
   const double volume = fsi_->fluid_volume(); // (collective)
-  if (fem::mpi_rank(dmesh_->comm()) == 0)
-    spdlog::info("wall loaded with {:.1f} mmHg on its fluid side: largest displacement {:.3g} mm "
-                 "({} Newton iterations), fluid volume {:.2f} mL",
-                 p0 / units::mmHg, largest / units::mm, r.newton_iterations, volume / units::mL);
+  start_notes_.push_back(fmt::format("wall loaded with {:.1f} mmHg on its fluid side: largest "
+                                     "displacement {:.3g} mm ({} Newton iterations), fluid "
+                                     "volume {:.2f} mL",
+                                     p0 / units::mmHg, largest / units::mm, r.newton_iterations,
+                                     volume / units::mL));
 }
 
 const io::BoundaryCondition& Simulation::bc_of(const std::string& face) const {
@@ -371,15 +372,16 @@ RunSummary Simulation::run(const RunOptions& options) {
 
   if (options.restart) {
     const io::Checkpoint c = io::read_checkpoint(checkpoint_file);
-    if (c.num_nodes != mesh_.num_nodes() || c.block != block())
-      input_error("checkpoint '{}' has {} nodes x {} unknowns, the case's mesh {} x {}",
-                  checkpoint_file.string(), c.num_nodes, c.block, mesh_.num_nodes(), block());
+    check_restart(c, run_fingerprint(case_, mesh_), mesh_.num_nodes(), block(), case_.time.steps,
+                  checkpoint_file);
     set_state(static_cast<int>(c.step), c.solution, c.derivative);
     set_outlet_checkpoint(c.extra, checkpoint_file);
     if (c.exact_operator) // the method the run had switched to (fluid_solver.cpp)
       fsi_ ? fsi_solver_->use_exact_operator() : solver_->use_exact_operator();
     if (options.write_output) {
       record.load_csv(faces_csv, step_); // every rank: all must agree on periodicity
+      if (root) // the rows after the checkpoint's step are gone from it too
+        io::write_file_atomically(faces_csv, record.csv());
       if (root) {
         output_->series->load_existing();
         output_->series->truncate_after(time());
@@ -389,9 +391,14 @@ RunSummary Simulation::run(const RunOptions& options) {
       fmt::print("restarting from step {} (t = {:.6g} s) of '{}'{}\n", step_, time(),
                  checkpoint_file.string(), c.exact_operator ? ", with the exact operator" : "");
   } else {
+    if (root && options.progress)
+      for (const std::string& note : start_notes_)
+        spdlog::info("{}", note);
     if (options.write_output)
       write_frame();
     record.add(sample());
+    if (root && options.write_output) // then a row per step as the run goes
+      io::write_file_atomically(faces_csv, record.csv());
   }
 
   auto write_record = [&] {
@@ -405,8 +412,10 @@ RunSummary Simulation::run(const RunOptions& options) {
     io::Checkpoint c;
     c.step = step_;
     c.time = time();
+    c.time_step = case_.time.step;
     c.num_nodes = mesh_.num_nodes();
     c.block = block();
+    c.fingerprint = run_fingerprint(case_, mesh_); // the outlets as they run now
     c.solution = gather(solution());
     c.derivative = gather(acceleration());
     c.extra = outlet_checkpoint();
@@ -436,6 +445,8 @@ RunSummary Simulation::run(const RunOptions& options) {
     summary.reports.push_back(r);
     ++summary.steps;
     std::optional<analysis::CycleStats> cycle = record.add(sample());
+    if (root && options.write_output) // a killed run keeps every step it finished
+      io::append_to_file(faces_csv, RunRecord::csv_rows(record.samples().back()));
     if (cycle) {
       periodic = case_.time.periodicity_tolerance > 0.0 && cycle->change &&
                  *cycle->change < case_.time.periodicity_tolerance;

@@ -88,6 +88,9 @@ private:
   std::unique_ptr<physics::FsiProblem> fsi_; ///< instead of problem_ with a wall
   std::unique_ptr<physics::FsiSolver> fsi_solver_;
   int step_ = 0;
+  /// How the initial state was made (0D start, wall loading): told by run() when it starts
+  /// from it, not when it restarts from a checkpoint.
+  std::vector<std::string> start_notes_;
   struct Output;
   std::unique_ptr<Output> output_;
 };

@@ -8,6 +8,7 @@
 #include "io/vtu_series.hpp"
 #include "mesh/orient_faces.hpp"
 #include "mesh/readers.hpp"
+#include "run/run_fingerprint.hpp"
 
 namespace tearflow::run {
 
@@ -133,7 +134,9 @@ RunSummary SolidSimulation::run(const RunOptions& options) {
   if (options.restart) {
     // Checkpoint layout: solution (v, p), derivative a, extra u; block 4 each.
     const io::Checkpoint c = io::read_checkpoint(checkpoint_file);
-    if (c.num_nodes != mesh_.num_nodes() || c.block != block || c.extra.size() != c.solution.size())
+    check_restart(c, run_fingerprint(case_, mesh_), mesh_.num_nodes(), block, case_.time.steps,
+                  checkpoint_file);
+    if (c.extra.size() != c.solution.size())
       input_error("checkpoint '{}' has {} nodes x {} unknowns, not a solid state of the case's "
                   "mesh ({} x {})",
                   checkpoint_file.string(), c.num_nodes, c.block, mesh_.num_nodes(), block);
@@ -165,8 +168,10 @@ RunSummary SolidSimulation::run(const RunOptions& options) {
     io::Checkpoint c;
     c.step = step_;
     c.time = time();
+    c.time_step = case_.time.step;
     c.num_nodes = mesh_.num_nodes();
     c.block = block;
+    c.fingerprint = run_fingerprint(case_, mesh_);
     c.solution = gather(solver_->solution());
     c.derivative = gather(solver_->acceleration());
     c.extra = gather(solver_->displacement());

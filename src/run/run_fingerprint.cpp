@@ -1,0 +1,116 @@
+#include "run/run_fingerprint.hpp"
+
+#include <algorithm>
+#include <map>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace tearflow::run {
+
+namespace {
+
+std::uint64_t digest(const std::vector<double>& v, std::uint64_t h = 0xcbf29ce484222325ULL) {
+  return io::fnv1a(v.data(), v.size() * sizeof(double), h);
+}
+
+/// A waveform as its values at 97 times over its period (or its one value): what the run
+/// sees of it, whatever samples and interpolation gave it.
+std::string waveform(const bc::Waveform& w) {
+  if (w.is_constant())
+    return fmt::format("{}", w(0.0));
+  std::vector<double> v;
+  for (int k = 0; k < 97; ++k)
+    v.push_back(w(w.period() * k / 97.0));
+  return fmt::format("period {} s, digest {:016x}", w.period(), digest(v));
+}
+
+std::string condition(const io::BoundaryCondition& b) {
+  switch (b.type) {
+  case io::BcType::NoSlip:
+    return "no_slip";
+  case io::BcType::Inflow:
+    return fmt::format("inflow {} (profile {}, {} modes)", waveform(b.flow),
+                       static_cast<int>(b.profile), b.womersley_modes);
+  case io::BcType::Pressure:
+    return fmt::format("pressure {} Pa, backflow {}", waveform(b.pressure), b.backflow_beta);
+  case io::BcType::Resistance:
+    return fmt::format("resistance {} Pa s/m^3 to {} Pa, backflow {}", b.resistance,
+                       b.distal_pressure, b.backflow_beta);
+  case io::BcType::Windkessel:
+    return fmt::format("rcr R_p {}, C {}, R_d {}, P_ref {}, backflow {}", b.rcr.proximal_resistance,
+                       b.rcr.capacitance, b.rcr.distal_resistance, b.rcr.reference_pressure,
+                       b.backflow_beta);
+  }
+  return "?";
+}
+
+} // namespace
+
+io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
+  io::Fingerprint f;
+  std::uint64_t h = io::fnv1a(m.points.data(), m.points.size() * sizeof(Vec3));
+  h = io::fnv1a(m.tets.data(), m.tets.size() * sizeof(m.tets[0]), h);
+  h = io::fnv1a(m.tet_region.data(), m.tet_region.size() * sizeof(int), h);
+  f.emplace_back("mesh", fmt::format("{} nodes, {} tets, {} regions, digest {:016x}", m.num_nodes(),
+                                     m.tets.size(), m.regions.size(), h));
+  f.emplace_back("time step", fmt::format("{} s", c.time.step));
+  f.emplace_back("time scheme", fmt::format("spectral radius {}", c.time.spectral_radius));
+  if (!c.boundary_conditions.empty())
+    f.emplace_back("fluid", fmt::format("density {} kg/m^3, viscosity {} Pa s", c.fluid.density,
+                                        c.fluid.viscosity));
+  for (const io::BoundaryCondition& b : c.boundary_conditions)
+    f.emplace_back("face " + b.face, condition(b));
+  if (c.solid) {
+    const physics::SolidMaterial& s = c.solid->material;
+    f.emplace_back("wall",
+                   fmt::format("model {}, density {}, mu {}, kappa {}, "
+                               "stabilization {}, {}",
+                               static_cast<int>(s.model), s.density, s.mu, s.kappa, s.stabilization,
+                               c.solid->quasi_static ? "quasi-static" : "dynamic"));
+    for (const bc::FixedFace& x : c.solid->conditions.fixed)
+      f.emplace_back("wall face " + x.face,
+                     fmt::format("fixed {:03b} at ({}, {}, {}) m over {} s", x.components,
+                                 x.displacement[0], x.displacement[1], x.displacement[2], x.ramp));
+    for (const bc::PressureLoad& x : c.solid->conditions.loads)
+      f.emplace_back("wall face " + x.face, "pressure " + waveform(x.pressure));
+    for (const bc::RobinSupport& x : c.solid->conditions.supports)
+      f.emplace_back("wall face " + x.face, fmt::format("support k {} Pa/m, c {} Pa s/m, p_0 {} Pa",
+                                                        x.stiffness, x.damping, x.pressure));
+  }
+  return f;
+}
+
+void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
+                   int block, int last_step, const std::filesystem::path& file) {
+  if (checkpoint.num_nodes != num_nodes || checkpoint.block != block)
+    input_error("checkpoint '{}' has {} nodes x {} unknowns, the case's mesh {} x {}",
+                file.string(), checkpoint.num_nodes, checkpoint.block, num_nodes, block);
+  const std::map<std::string, std::string> then(checkpoint.fingerprint.begin(),
+                                                checkpoint.fingerprint.end());
+  std::map<std::string, std::string> current(now.begin(), now.end());
+  std::string changed;
+  for (const auto& [part, value] : current) {
+    const auto it = then.find(part);
+    if (it == then.end())
+      changed += fmt::format("\n  {}: not in the checkpoint; now {}", part, value);
+    else if (it->second != value)
+      changed += fmt::format("\n  {}: {} in the checkpoint; now {}", part, it->second, value);
+  }
+  for (const auto& [part, value] : then)
+    if (!current.contains(part))
+      changed += fmt::format("\n  {}: {} in the checkpoint; not in the case now", part, value);
+  if (!changed.empty())
+    input_error("checkpoint '{}' was written by a different run; what changed since:{}\nA "
+                "restart continues the same run; run the changed case from the start (without "
+                "--restart), into another output folder to keep this one",
+                file.string(), changed);
+  if (checkpoint.step > last_step)
+    input_error("checkpoint '{}' is at step {} (t = {:.6g} s), past the case's last step {}: "
+                "nothing to continue (raise the case's time.steps, end or cycles)",
+                file.string(), checkpoint.step, checkpoint.time, last_step);
+}
+
+} // namespace tearflow::run

@@ -1,0 +1,25 @@
+#pragma once
+// What a checkpoint must agree with to continue a run bit for bit: the named parts of the
+// case and mesh that the state depends on. A restart compares them with the checkpoint's and
+// refuses a difference, naming each part that changed and how (io/checkpoint.hpp).
+#include <filesystem>
+
+#include "io/case.hpp"
+#include "io/checkpoint.hpp"
+#include "mesh/mesh.hpp"
+
+namespace tearflow::run {
+
+/// The parts: mesh (nodes, tets, regions, a digest of coordinates and connectivity), time
+/// step, time scheme, fluid, wall (material, supports, fixed faces), inflow (faces, profile,
+/// a digest of the waveform), outlets (faces, types, their numbers and waveforms). Only what
+/// the solution depends on: not the output settings, the Newton tolerances or solver options.
+io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m);
+
+/// InputError naming `file` when the checkpoint does not continue this run: a fingerprint
+/// part that differs (each named, with the checkpoint's and the case's description), a
+/// different node count or unknowns per node, or a step past `last_step` of the case.
+void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
+                   int block, int last_step, const std::filesystem::path& file);
+
+} // namespace tearflow::run
