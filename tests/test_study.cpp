@@ -5,6 +5,10 @@
 #include <fstream>
 #include <thread>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -52,6 +56,37 @@ TEST(Study, BadStudyFileIsAClearError) {
                           "did you mean 'element-size'?"),
             std::string::npos)
       << r.output;
+
+  // Issue 28: a variant named '..' wrote into the output's parent, '.' into the output.
+  for (const char* bad : {"..", "."}) {
+    std::string named = read_text(write_study(dir));
+    named.replace(named.find("name: OR"), 8, std::string("name: ") + bad);
+    std::ofstream(file) << named;
+    const testing::Result n = testing::run_tearflow("study --check " + file.string());
+    EXPECT_EQ(n.code, 2) << n.output;
+    EXPECT_NE(n.output.find("other than '.' and '..' (it names a folder)"), std::string::npos)
+        << n.output;
+  }
+}
+
+// Issue 28: two studies on one output folder both ran, into the same files. The second is
+// refused at once, naming the holder, while the first holds the folder's lock (held here by
+// the test itself, as a running study holds it).
+TEST(Study, ASecondStudyOnTheSameOutputIsRefused) {
+  const fs::path dir = testing::fresh_dir("study-lock");
+  const fs::path file = write_study(dir);
+  fs::create_directories(dir / "results");
+  const int fd = ::open((dir / "results" / ".study.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  ASSERT_EQ(::write(fd, "pid 4242, started now\n", 22), 22);
+  const testing::Result r = testing::run_tearflow("study " + file.string());
+  ::close(fd);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("is in use by another `tearflow study` (pid 4242, started now)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("stage 1/"), std::string::npos) << "a stage ran: " << r.output;
 }
 
 TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {

@@ -16,6 +16,7 @@
 #include "io/vtu_series.hpp"
 #include "mesh/readers.hpp"
 #include "study/child_process.hpp"
+#include "study/output_lock.hpp"
 
 namespace tearflow::study {
 
@@ -314,6 +315,7 @@ void StudyRunner::progress(std::size_t index, std::size_t total) const {
 
 int StudyRunner::run() {
   started_ = now();
+  const OutputLock lock(spec_.output); // one study at a time in this folder
   for (const Variant& v : spec_.variants) {
     bool changed = false;
     for (const auto& [key, entry] : record_["stages"].items())

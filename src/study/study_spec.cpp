@@ -13,6 +13,13 @@
 namespace tearflow::study {
 
 namespace {
+/// A name that is one folder inside the study's output: '.' and '..' are not.
+bool is_folder_name(const std::string& name) {
+  return std::regex_match(name, std::regex("[A-Za-z0-9_.-]+")) && name != "." && name != "..";
+}
+} // namespace
+
+namespace {
 
 std::string read_text(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -81,8 +88,9 @@ StudySpec load_study(const std::filesystem::path& file,
   root.check_keys({"name", "case", "output", "ranks", "launcher", "time", "geometry", "tuning",
                    "png", "compare_rigid", "variants"});
   s.name = root.has("name") ? root.require("name", "").text() : file.stem().string();
-  if (!std::regex_match(s.name, std::regex("[A-Za-z0-9_.-]+")))
-    root.require("name", "").fail_expected("a name of letters, digits, '_', '-' and '.'");
+  if (!is_folder_name(s.name))
+    root.require("name", "")
+        .fail_expected("a name of letters, digits, '_', '-' and '.', other than '.' and '..'");
   const io::YamlValue case_value = root.require("case", "the template case file (docs/study.md)");
   s.case_file = io::resolve_path(dir, case_value.text());
   if (!std::filesystem::exists(s.case_file))
@@ -127,8 +135,9 @@ StudySpec load_study(const std::filesystem::path& file,
     Variant v;
     const io::YamlValue name = item.require("name", "the variant's name");
     v.name = name.text();
-    if (!std::regex_match(v.name, std::regex("[A-Za-z0-9_.-]+")))
-      name.fail_expected("a name of letters, digits, '_', '-' and '.' (it names a folder)");
+    if (!is_folder_name(v.name)) // '..' would write into the study's parent folder
+      name.fail_expected("a name of letters, digits, '_', '-' and '.', other than '.' and '..' "
+                         "(it names a folder)");
     for (const Variant& other : s.variants)
       if (other.name == v.name)
         name.fail(fmt::format("variant '{}' is given twice", v.name));
