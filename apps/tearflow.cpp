@@ -230,6 +230,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "error: %s\n", e.what());
     code = 3;
     all_ranks_stopped = e.collective;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory: the input asks for more memory than this process "
+                         "could get (a mesh, element size, image size or mode count too large "
+                         "for this machine?)\n");
+    code = 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     code = 1;

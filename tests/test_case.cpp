@@ -247,6 +247,8 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
   BadCase{"bad_profile.yaml", 10, "boundary_conditions[0].profile", "did you mean 'parabolic'?"},
   BadCase{"bad_womersley_constant.yaml", 10, "boundary_conditions[0].profile",
           "needs a periodic flow"},
+  BadCase{"bad_womersley_modes.yaml", 11, "boundary_conditions[0].womersley_modes",
+          "expected an integer from 1 to 256, got '1000000'"},
   BadCase{"bad_resistance_zero.yaml", 14, "boundary_conditions[2].resistance",
           "expected a number > 0, got '0'"},
   BadCase{"bad_duplicate_face.yaml", 12, "boundary_conditions[2].face",

@@ -167,6 +167,34 @@ TEST(MriPlanes, LumenPointOutsideTheImageIsAnError) {
   }
 }
 
+TEST(MriPlanes, NotANumberInALumenIsRefusedNamingLandmarkAndFrame) {
+  // Issue 28: a NaN in a NIfTI velocity volume gave that frame's flow as 0, without a word.
+  // One voxel next to the lumen point, in one velocity component of frame 3, then in the
+  // magnitude of frame 5 (a hole in the lumen mask): each names the landmark and frame.
+  const mri::PipeScan scan = test_pipe_scan();
+  const auto landmarks = test_pipe_landmarks(scan);
+  const auto error = [&](int frame, int component) {
+    mri::Flow4D data = mri::synthesize_pipe(scan);
+    const Vec3 ijk = data.grid.index(scan.axis_point);
+    const std::size_t voxel = data.grid.linear(static_cast<int>(std::lround(ijk[0])) + 1,
+                                               static_cast<int>(std::lround(ijk[1])),
+                                               static_cast<int>(std::lround(ijk[2])));
+    mri::Frame& f = data.frames[static_cast<std::size_t>(frame)];
+    (component < 0 ? f.magnitude : f.velocity[static_cast<std::size_t>(component)])[voxel] =
+        std::nanf("");
+    try {
+      mri::measure_planes(data, landmarks);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string velocity = error(3, 2), magnitude = error(5, -1);
+  EXPECT_NE(velocity.find("landmark 'AAo', frame 3"), std::string::npos) << velocity;
+  EXPECT_NE(velocity.find("not a number"), std::string::npos) << velocity;
+  EXPECT_NE(magnitude.find("landmark 'AAo', frame 5"), std::string::npos) << magnitude;
+}
+
 TEST(MriAlignment, LandmarksMovedByTheFittedTransformMeasureTheSameFlows) {
   // The model's frame differs from the scanner's by a rotation of 40 degrees and a shift.
   // Four noisy-free paired points give the transform (Kabsch), exact to rounding; the model's

@@ -179,4 +179,21 @@ TEST(MriCommand, BadInputExitsNonZeroWithTheReason) {
   r = run_tearflow("mri synthesize -o " + (dir / "s").string() + " --voxel 1.5furlong");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("--voxel"), std::string::npos) << r.output;
+  // Issue 28: --size 2000,2000,200 allocated 9 GB before a bare std::bad_alloc. The estimate
+  // (4 float images x 8e8 voxels x 20 frames = 256 GB) is refused before any allocation.
+  r = run_tearflow("mri synthesize -o " + (dir / "s").string() + " --size 2000,2000,200");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("--size 2000 x 2000 x 200 voxels x 20 frames needs about 256.0 GB"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "s"));
+  // Within the estimate's bound but beyond what the process may have (ulimit -v 1.2 GB for
+  // 2 GB of images): the error says so in words, not as a bare std::bad_alloc.
+  r = run_tearflow("mri synthesize -o " + (dir / "s").string() + " --size 250,250,100",
+                   "ulimit -v 1200000;");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("error: out of memory: the input asks for more memory"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("bad_alloc"), std::string::npos) << r.output;
 }

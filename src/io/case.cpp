@@ -341,6 +341,10 @@ BoundaryCondition read_bc(const YamlValue& v, const fs::path& case_dir) {
       if (bc.profile != InflowProfile::Womersley)
         m->fail("womersley_modes applies to profile: womersley only");
       bc.womersley_modes = m->integer(1);
+      // Each mode costs Bessel evaluations per inflow node and memory per node: a sampled
+      // waveform has no harmonics that far up (the default is 16), and 1e6 ran for minutes.
+      if (bc.womersley_modes > 256)
+        m->fail_expected("an integer from 1 to 256");
     }
     break;
   }

@@ -10,6 +10,8 @@
 #include <optional>
 #include <regex>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -205,6 +207,17 @@ int MriCommand::synthesize() const {
   }
   if (!(voxel > 0) || !(radius > 0) || !(scan.venc > 0))
     input_error("mri synthesize: --voxel, --radius and --venc must be positive");
+  // The scan is held in memory (4 float images over the voxels and frames) before it is
+  // written: refused before allocating when that exceeds half of this machine's memory.
+  const double bytes = 4.0 * sizeof(float) * size[0] * size[1] * size[2] * std::max(frames_, 1);
+  const double machine = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                         static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+  if (machine > 0 && bytes > 0.5 * machine)
+    input_error("mri synthesize: --size {} x {} x {} voxels x {} frames needs about {:.1f} GB in "
+                "memory, more than half of this machine's {:.1f} GB; give fewer voxels or frames",
+                size[0], size[1], size[2], frames_, bytes / 1e9, machine / 1e9);
+  if (bytes > 1e9)
+    fmt::print("mri synthesize: about {:.1f} GB of images in memory\n", bytes / 1e9);
   scan.grid =
       centred_grid(scan.axis_point, rotation({1, 1, 0}, rotate_), size, {voxel, voxel, voxel});
   Flow4D data = synthesize_pipe(scan);

@@ -150,6 +150,10 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
           if (x >= 0 && y >= 0 && x < r.side && y < r.side)
             around.push_back(mag[static_cast<std::size_t>(y) * r.side + x]);
         }
+      if (std::any_of(around.begin(), around.end(), [](double m) { return !std::isfinite(m); }))
+        input_error("landmark '{}', frame {} (t = {:.4g} s): the magnitude at its lumen point is "
+                    "not a number; the input volume's frame is damaged there",
+                    lm.name, f, fr.time);
       std::nth_element(around.begin(), around.begin() + around.size() / 2, around.end());
       const double threshold = o.lumen_fraction * around[around.size() / 2];
       if (!(threshold > 0))
@@ -163,6 +167,17 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
         seeds.push_back(seed);
       }
       const std::vector<char> flow_region = grown(lumen, r.side, grow);
+      // A NaN in the section would make the flow NaN or, through the magnitude mask, cut a
+      // hole in the lumen: either changes the result, so it is refused, with where.
+      std::size_t not_numbers = 0;
+      for (std::size_t p = 0; p < npx; ++p)
+        if (flow_region[p] && r.inside[p] && !(std::isfinite(vn[p]) && std::isfinite(mag[p])))
+          ++not_numbers;
+      if (not_numbers > 0)
+        input_error("landmark '{}', frame {} (t = {:.4g} s): {} pixel(s) of its lumen's section "
+                    "sample velocity or magnitude that is not a number (NaN or infinite); the "
+                    "flow would be wrong. Repair or mask that frame of the input",
+                    lm.name, f, fr.time, not_numbers);
       double area = 0.0, flow = 0.0, peak = -1e300;
       for (std::size_t p = 0; p < npx; ++p) {
         if (lumen[p]) {

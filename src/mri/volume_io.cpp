@@ -2,6 +2,7 @@
 // magnitude, vx, vy, vz, each an image over (i, j, k, frame).
 #include "mri/image_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <itkImage.h>
@@ -10,6 +11,8 @@
 #include <itkImageIOBase.h>
 #include <itkMetaImageIO.h>
 #include <itkNiftiImageIO.h>
+
+#include <spdlog/spdlog.h>
 
 #include "core/error.hpp"
 
@@ -153,6 +156,26 @@ Flow4D read_volumes(const fs::path& dir, const ReadOptions& options) {
     out.frames.push_back(std::move(fr));
   }
   out.frame_window = a->GetSpacing()[3];
+  // Values that are not numbers: said with their count and frames here; a landmark whose
+  // lumen holds one is refused when the planes are measured (plane_flow.cpp).
+  for (int s = 0; s < 4; ++s) {
+    std::size_t count = 0, first = 0, last = 0;
+    for (std::size_t f = 0; f < out.frames.size(); ++f) {
+      const std::vector<float>& v =
+          s == 0 ? out.frames[f].magnitude : out.frames[f].velocity[s - 1];
+      const auto bad = static_cast<std::size_t>(
+          std::count_if(v.begin(), v.end(), [](float x) { return !std::isfinite(x); }));
+      if (bad > 0) {
+        first = count == 0 ? f : first;
+        last = f;
+      }
+      count += bad;
+    }
+    if (count > 0)
+      spdlog::warn("'{}': {} voxel value(s) of {} are not numbers (NaN or infinite), in frames "
+                   "{} to {}; a landmark whose lumen section meets one is refused",
+                   find_component(dir, kNames[s], nullptr).string(), count, kNames[s], first, last);
+  }
   out.check(dir.string());
   return out;
 }
