@@ -1,6 +1,8 @@
 #include "io/vtu_series.hpp"
 
+#include <algorithm>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -8,6 +10,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkFieldData.h>
 #include <vtkIntArray.h>
 #include <vtkPointData.h>
@@ -66,13 +69,23 @@ void VtuSeries::write(int step, double time, const std::vector<PointField>& fiel
     pd->AddArray(a);
   }
   const std::string name = fmt::format("{}_{:06d}.vtu", stem_, step);
+  // Through a temporary file: a frame cut short by a full disk never replaces a whole one.
+  const std::filesystem::path file = directory_ / name, tmp = file.string() + ".tmp";
   auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
-  writer->SetFileName((directory_ / name).c_str());
+  writer->SetFileName(tmp.c_str());
   writer->SetInputData(grid_);
   writer->SetDataModeToAppended();
   writer->SetCompressorTypeToLZ4(); // fast; ParaView reads it
-  if (writer->Write() != 1)
-    throw InputError(fmt::format("cannot write '{}'", (directory_ / name).string()));
+  if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
+    const unsigned long code = writer->GetErrorCode();
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    input_error("cannot write frame '{}': {}", file.string(),
+                code == vtkErrorCode::OutOfDiskSpaceError ? "no space left on the device"
+                : code != 0 ? vtkErrorCode::GetStringFromErrorCode(code)
+                            : "the VTK writer failed");
+  }
+  std::filesystem::rename(tmp, file);
   frames_.emplace_back(time, name);
   write_pvd();
 }
@@ -86,17 +99,27 @@ void VtuSeries::write_pvd() const {
   write_file_atomically(directory_ / (stem_ + ".pvd"), xml);
 }
 
-void VtuSeries::load_existing() {
+void VtuSeries::load_existing(double time_step) {
   frames_.clear();
-  std::ifstream in(directory_ / (stem_ + ".pvd"));
-  if (!in)
-    return;
-  const std::regex entry(R"re(timestep="([^"]+)".*file="([^"]+)")re");
-  std::string line;
+  std::map<std::string, double> listed;
+  if (std::ifstream in(directory_ / (stem_ + ".pvd")); in) {
+    const std::regex entry(R"re(timestep="([^"]+)".*file="([^"]+)")re");
+    std::string line;
+    std::smatch m;
+    while (std::getline(in, line))
+      if (std::regex_search(line, m, entry))
+        listed[m[2]] = std::stod(m[1]);
+  }
+  const std::regex frame_file(stem_ + R"(_([0-9]{6})\.vtu)");
   std::smatch m;
-  while (std::getline(in, line))
-    if (std::regex_search(line, m, entry))
-      frames_.emplace_back(std::stod(m[1]), m[2]);
+  for (const auto& e : std::filesystem::directory_iterator(directory_)) {
+    const std::string name = e.path().filename().string();
+    if (!std::regex_match(name, m, frame_file))
+      continue;
+    const auto it = listed.find(name);
+    frames_.emplace_back(it != listed.end() ? it->second : std::stoi(m[1]) * time_step, name);
+  }
+  std::sort(frames_.begin(), frames_.end());
 }
 
 void VtuSeries::truncate_after(double time) {

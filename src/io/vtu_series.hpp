@@ -35,8 +35,11 @@ public:
   void write(int step, double time, const std::vector<PointField>& fields);
   /// Forgets frames after `time` (restart) and rewrites the .pvd.
   void truncate_after(double time);
-  /// Re-reads an existing .pvd (restart) so new frames are appended to it.
-  void load_existing();
+  /// Re-reads an existing .pvd (restart) so new frames are appended to it. The frames on
+  /// disk decide: a frame file the .pvd does not list (a .pvd lost to a full disk or a kill)
+  /// is listed again at its step's time, step x `time_step`; a listed frame whose file is
+  /// gone is dropped.
+  void load_existing(double time_step);
 
 private:
   void write_pvd() const;

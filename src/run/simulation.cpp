@@ -383,7 +383,7 @@ RunSummary Simulation::run(const RunOptions& options) {
       if (root) // the rows after the checkpoint's step are gone from it too
         io::write_file_atomically(faces_csv, record.csv());
       if (root) {
-        output_->series->load_existing();
+        output_->series->load_existing(case_.time.step);
         output_->series->truncate_after(time());
       }
     }

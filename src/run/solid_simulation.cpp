@@ -142,7 +142,7 @@ RunSummary SolidSimulation::run(const RunOptions& options) {
                   checkpoint_file.string(), c.num_nodes, c.block, mesh_.num_nodes(), block);
     set_state(static_cast<int>(c.step), c.solution, c.extra, c.derivative);
     if (root && options.write_output) {
-      output_->series->load_existing();
+      output_->series->load_existing(case_.time.step);
       output_->series->truncate_after(time());
       std::ifstream in(faces_csv);
       std::string line;
