@@ -40,9 +40,19 @@ using namespace tearflow;
 
 namespace {
 
+/// The case, read by every rank from the same file: a bad case is the same error on every
+/// rank, so it is reported once and ends all ranks without MPI_Abort (issue 28, item 7).
+io::Case load_case_everywhere(const std::string& file) {
+  try {
+    return io::load_case(file);
+  } catch (const InputError& e) {
+    throw InputError(e.what(), true);
+  }
+}
+
 int run_command(const std::string& case_file, bool restart, const std::string& output, bool quiet,
                 const std::string& cli_petsc, int steps, const std::string& targets_file) {
-  io::Case c = case_file.empty() ? run::default_case() : io::load_case(case_file);
+  io::Case c = case_file.empty() ? run::default_case() : load_case_everywhere(case_file);
   if (steps > 0)
     c.time.steps = steps;
   if (!output.empty())
@@ -172,7 +182,7 @@ int main(int argc, char** argv) {
   run->add_option("-o,--output", output, "output directory (overrides the case file)");
   run->add_flag("-q,--quiet", quiet, "no progress lines");
   run->add_option("--steps", steps, "stop at this step (overrides time.steps and cycles)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000000000)); // not PositiveNumber: its message prints DBL_MAX
   run->add_option("--targets", targets_file,
                   "correct the RCR outlets at every cycle's end until a periodic cycle meets "
                   "these targets (docs/tuning.md)");

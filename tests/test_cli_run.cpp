@@ -147,6 +147,12 @@ TEST(CliRun, BadInputIsAClearErrorWithNonZeroExit) {
   EXPECT_THAT(wave.output, HasSubstr("bad_time.csv:4"));
   EXPECT_THAT(wave.output, HasSubstr("does not increase"));
 
+  // Issue 28: `--steps -1` printed a 309-digit bound (CLI11's PositiveNumber).
+  const Result steps = run("run " + (data / "runs/small_pipe.yaml").string() + " --steps -1");
+  EXPECT_NE(steps.code, 0);
+  EXPECT_THAT(steps.output, HasSubstr("--steps: Value -1 not in range 1 to 1000000000"));
+  EXPECT_LT(steps.output.size(), 200u) << steps.output;
+
   const Result yaml = run("run " + (data / "cases/bad_malformed.yaml").string());
   EXPECT_NE(yaml.code, 0);
   EXPECT_THAT(yaml.output, HasSubstr("bad_malformed.yaml:"));

@@ -127,6 +127,21 @@ TEST(CliVerify, CollectiveInputErrorIsReportedOnce) {
   EXPECT_EQ(n, 1) << r.output;
 }
 
+TEST(CliRun, BadCaseOnTwoRanksIsReportedOnceWithoutAbort) {
+  // Issue 28: a bad case on 2 ranks was printed twice and followed by Open MPI's MPI_ABORT
+  // banner. Every rank reads the same file: the same error, reported once, a clean exit 2.
+  const Result r = tearflow::testing::run_tearflow(
+      "run " + (tearflow::testing::test_data / "cases/bad_density_type.yaml").string(),
+      "mpirun -n 2");
+  EXPECT_EQ(r.code, 2) << r.output;
+  const std::regex message("error: .*fluid.density");
+  EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), message),
+                          std::sregex_iterator()),
+            1)
+      << r.output;
+  EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
+}
+
 namespace {
 
 nlohmann::json read_json(const fs::path& file) {

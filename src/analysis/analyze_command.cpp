@@ -18,7 +18,7 @@ AnalyzeCommand::AnalyzeCommand(CLI::App& app) {
       ->add_option("--cycle", cycle_,
                    "cardiac cycle as numbered in cycles.json (default: "
                    "the last complete one)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000000));
   command_
       ->add_option("--frames", frames_,
                    "'cycle' (a complete cardiac cycle) or 'all' (every saved frame, no "

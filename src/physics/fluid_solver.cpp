@@ -183,6 +183,7 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   }
   StepReport report = read_step_report(snes_, start, assembly_seconds_);
   report.newton_iterations += spent_its;
+  report.retried_iterations = spent_its;
   report.linear_iterations += spent_lits;
   if (const std::string why = newton_failure(err, callback_error_, reason, report.residual_final);
       !why.empty()) {

@@ -10,7 +10,10 @@
 namespace tearflow::physics {
 
 struct StepReport {
-  int newton_iterations = 0;
+  int newton_iterations = 0; ///< every iteration spent, a failed attempt's included
+  /// Of these, the iterations of attempts that failed before the step was solved again
+  /// (fluid_solver.cpp): "Newton 15" of at most 10 was 5 + 10 retried.
+  int retried_iterations = 0;
   int linear_iterations = 0;
   double residual_initial = 0.0; ///< ||R|| at the step's initial guess
   double residual_final = 0.0;

@@ -468,9 +468,15 @@ RunSummary Simulation::run(const RunOptions& options) {
     if (root && options.progress) {
       const double elapsed = MPI_Wtime() - start;
       const double eta = elapsed / summary.steps * (total - step_);
+      // The solve that counted, and apart what a failed attempt spent before it.
+      const std::string newton =
+          r.retried_iterations > 0
+              ? fmt::format("{} (+{} retried)", r.newton_iterations - r.retried_iterations,
+                            r.retried_iterations)
+              : fmt::format("{}", r.newton_iterations);
       fmt::print("step {:>5}/{}  t = {:.5f} s  Newton {} (|R| {:.2e} -> {:.2e})  KSP {:>4}  "
                  "{:.2f} s/step (assembly {:.2f} s)  ETA {:.0f} s\n",
-                 step_, total, time(), r.newton_iterations, r.residual_initial, r.residual_final,
+                 step_, total, time(), newton, r.residual_initial, r.residual_final,
                  r.linear_iterations, r.assembly_seconds + r.solve_seconds, r.assembly_seconds,
                  eta);
       std::fflush(stdout);

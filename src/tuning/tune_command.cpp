@@ -30,7 +30,7 @@ TuneCommand::TuneCommand(CLI::App& app) {
   command_
       ->add_option("--iterations", iterations_,
                    "3D correction runs, overriding the targets file (0: the 0D stage only)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1000));
   command_->add_flag("-q,--quiet", quiet_, "no progress lines");
 }
 
