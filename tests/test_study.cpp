@@ -250,7 +250,7 @@ TEST(Study, CompliantStudyTunesInItsRunAndResumes) {
   // against DAo_prox and DAo_dist with the volume the moving wall stores between the planes
   // (stations 1-2 also cut the ascending aorta: each cut's own downstream part). What is left
   // is the Newton tolerance (1e-3 of each step's first residual): measured 0.03-0.04 % of the
-  // peak flow (the same at 1e-5); the tolerance, 0.5 %, is ten times that and a quarter of
+  // peak flow (0.0008 % at 1e-5); the tolerance, 0.5 %, is ten times that and a quarter of
   // the 2 %. The flap moves at every station.
   const json metrics = read_json(out / "OR" / "run" / "analysis" / "metrics.json");
   EXPECT_EQ(metrics["flow_stage_frames"], metrics["frame_count"]);
