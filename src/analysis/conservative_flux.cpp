@@ -57,10 +57,16 @@ ContinuityState sized(vtkIdType n) {
   return s;
 }
 
-/// The boundary triangles of a tetrahedral grid whose three nodes are marked `on_wall`
-/// (kOnWallArray), oriented outwards. None without that array (a rigid wall: u = 0 there).
-std::vector<std::array<vtkIdType, 3>> wall_triangles(vtkUnstructuredGrid* grid) {
-  std::vector<std::array<vtkIdType, 3>> out;
+} // namespace
+
+FrameDifferences frame_differences(vtkUnstructuredGrid* before, double t_before,
+                                   vtkUnstructuredGrid* after, double t_after) {
+  const double dt = t_after - t_before;
+  return {difference(before, after, "velocity", dt), difference(before, after, "displacement", dt)};
+}
+
+WallTriangles wall_triangles(vtkUnstructuredGrid* grid) {
+  WallTriangles out;
   vtkDataArray* on_wall = grid->GetPointData()->GetArray(kOnWallArray);
   if (on_wall == nullptr)
     return out;
@@ -102,21 +108,13 @@ std::vector<std::array<vtkIdType, 3>> wall_triangles(vtkUnstructuredGrid* grid) 
   return out;
 }
 
-} // namespace
-
-FrameDifferences frame_differences(vtkUnstructuredGrid* before, double t_before,
-                                   vtkUnstructuredGrid* after, double t_after) {
-  const double dt = t_after - t_before;
-  return {difference(before, after, "velocity", dt), difference(before, after, "displacement", dt)};
-}
-
 bool has_acceleration(vtkUnstructuredGrid* frame) {
   vtkDataArray* a = frame->GetPointData()->GetArray(kAcceleration);
   return a != nullptr && a->GetNumberOfComponents() == 3;
 }
 
 ContinuityState step_stage(vtkUnstructuredGrid* before, vtkUnstructuredGrid* after,
-                           const ContinuityForm& form) {
+                           const ContinuityForm& form, std::shared_ptr<const WallTriangles> wall) {
   const vtkIdType n = after->GetNumberOfPoints();
   if (before->GetNumberOfPoints() != n || before->GetNumberOfCells() != after->GetNumberOfCells())
     input_error("frames of different meshes ({} and {} nodes): the analysis needs one mesh",
@@ -145,12 +143,12 @@ ContinuityState step_stage(vtkUnstructuredGrid* before, vtkUnstructuredGrid* aft
     s.udot[k] = tuple3(a0, i) + am * (tuple3(a1, i) - tuple3(a0, i));
     s.p[k] = p1->GetTuple1(i);
   }
-  s.wall_triangles = wall_triangles(after);
+  s.wall = std::move(wall);
   return s;
 }
 
 ContinuityState frame_state(vtkUnstructuredGrid* frame, const FrameRates& rates,
-                            const ContinuityForm& form) {
+                            const ContinuityForm& form, std::shared_ptr<const WallTriangles> wall) {
   const vtkIdType n = frame->GetNumberOfPoints();
   vtkDataArray* velocity = frame->GetPointData()->GetArray("velocity");
   vtkDataArray* pressure = frame->GetPointData()->GetArray("pressure");
@@ -168,7 +166,7 @@ ContinuityState frame_state(vtkUnstructuredGrid* frame, const FrameRates& rates,
     s.lagged[k] = s.u[k] - form.time_step * s.udot[k] - s.w[k]; // ~ u_n - w
     s.p[k] = pressure->GetTuple1(i);
   }
-  s.wall_triangles = wall_triangles(frame);
+  s.wall = std::move(wall);
   return s;
 }
 
@@ -265,7 +263,8 @@ PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& 
   }
   // W = int_wall psi u.n dA, exact for the P1 psi and u: the mass matrix A (1 + delta_ab) / 12.
   std::map<vtkIdType, double> wall; // per downstream part (its root)
-  for (const auto& t : state.wall_triangles) {
+  static const WallTriangles none;
+  for (const auto& t : state.wall ? *state.wall : none) {
     const std::array<std::size_t, 3> k{static_cast<std::size_t>(t[0]),
                                        static_cast<std::size_t>(t[1]),
                                        static_cast<std::size_t>(t[2])};

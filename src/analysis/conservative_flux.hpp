@@ -36,6 +36,7 @@
 // differences of its neighbours), u_n estimated as u - dt du/dt; that balances to O(dt).
 #include <array>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <vtkDoubleArray.h>
@@ -79,16 +80,23 @@ struct FrameDifferences {
 FrameDifferences frame_differences(vtkUnstructuredGrid* before, double t_before,
                                    vtkUnstructuredGrid* after, double t_after);
 
+/// Boundary triangles on the moving wall (nodes, counter-clockwise seen from outside).
+using WallTriangles = std::vector<std::array<vtkIdType, 3>>;
+
+/// The boundary triangles of a frame's fluid grid whose three nodes are marked `on_wall`
+/// (kOnWallArray), oriented outwards; none without that array (a rigid wall: u = 0 there).
+/// The frames of one run share them: computed once per analysis.
+WallTriangles wall_triangles(vtkUnstructuredGrid* frame);
+
 /// The fields of the continuity equation at the nodes of a frame's fluid mesh (its order).
 struct ContinuityState {
-  std::vector<Vec3> x;          ///< where the equation is posed [m]
-  std::vector<Vec3> x_lagged;   ///< where tau_M was computed [m]
-  std::vector<Vec3> u, udot, w; ///< [m/s], [m/s^2], [m/s]
-  std::vector<Vec3> lagged;     ///< tau_M's convective velocity [m/s]
-  std::vector<double> p;        ///< [Pa]
-  double time_step = 0.0;       ///< [s]
-  /// Boundary triangles on the moving wall (nodes, counter-clockwise seen from outside).
-  std::vector<std::array<vtkIdType, 3>> wall_triangles;
+  std::vector<Vec3> x;                       ///< where the equation is posed [m]
+  std::vector<Vec3> x_lagged;                ///< where tau_M was computed [m]
+  std::vector<Vec3> u, udot, w;              ///< [m/s], [m/s^2], [m/s]
+  std::vector<Vec3> lagged;                  ///< tau_M's convective velocity [m/s]
+  std::vector<double> p;                     ///< [Pa]
+  double time_step = 0.0;                    ///< [s]
+  std::shared_ptr<const WallTriangles> wall; ///< the run's (wall_triangles); null: none
   bool exact = false; ///< the solver's stage (step_stage), not an estimate (frame_state)
 };
 
@@ -98,12 +106,12 @@ bool has_acceleration(vtkUnstructuredGrid* frame);
 /// The stage of the step from `before` to `after` (frames one step, form.time_step, apart,
 /// both with `acceleration`): exact. InputError when the frames' meshes differ.
 ContinuityState step_stage(vtkUnstructuredGrid* before, vtkUnstructuredGrid* after,
-                           const ContinuityForm& form);
+                           const ContinuityForm& form, std::shared_ptr<const WallTriangles> wall);
 
 /// The estimate from one frame at t_{n+1}: du/dt from the frame when it holds it, else from
 /// `rates`; w from `rates`; step `form.time_step`.
 ContinuityState frame_state(vtkUnstructuredGrid* frame, const FrameRates& rates,
-                            const ContinuityForm& form);
+                            const ContinuityForm& form, std::shared_ptr<const WallTriangles> wall);
 
 /// The region (of the plane's section) holding a point on the plane inside a cut
 /// tetrahedron, or -1 for none.

@@ -210,9 +210,12 @@ Analysis analyze_run(const AnalyzeOptions& o) {
   };
   // The continuity state of the step that ended at saved frame i: its stage when the frame
   // before is that step's start, else the estimate from frame i; none for the initial state.
+  std::shared_ptr<const WallTriangles> wall; // the run's: one mesh for every frame
   const auto state_of = [&](std::size_t i) -> std::optional<ContinuityState> {
     if (!form)
       return std::nullopt;
+    if (!wall)
+      wall = std::make_shared<const WallTriangles>(wall_triangles(frame(i)));
     const std::optional<double> dt = step_ending_at(steps, saved[i].time, form->time_step);
     if (!dt)
       return std::nullopt;
@@ -221,12 +224,12 @@ Analysis analyze_run(const AnalyzeOptions& o) {
     const double slack = 1e-6 * *dt;
     if (i > 0 && std::abs(saved[i].time - saved[i - 1].time - *dt) < slack &&
         has_acceleration(frame(i)) && has_acceleration(frame(i - 1)))
-      return step_stage(frame(i - 1), frame(i), at);
+      return step_stage(frame(i - 1), frame(i), at, wall);
     const std::size_t before = i > 0 ? i - 1 : i, after = i + 1 < saved.size() ? i + 1 : i;
     FrameDifferences rates;
     if (before != after)
       rates = frame_differences(frame(before), saved[before].time, frame(after), saved[after].time);
-    return frame_state(frame(i), rates.rates(), at);
+    return frame_state(frame(i), rates.rates(), at, wall);
   };
   const auto index_of = [&](const FlowFrame& f) {
     return static_cast<std::size_t>(

@@ -380,9 +380,8 @@ RunSummary Simulation::run(const RunOptions& options) {
       fsi_ ? fsi_solver_->use_exact_operator() : solver_->use_exact_operator();
     if (options.write_output) {
       record.load_csv(faces_csv, step_); // every rank: all must agree on periodicity
-      if (root) // the rows after the checkpoint's step are gone from it too
-        io::write_file_atomically(faces_csv, record.csv());
       if (root) {
+        io::write_file_atomically(faces_csv, record.csv()); // without rows after the checkpoint
         output_->series->load_existing(case_.time.step);
         output_->series->truncate_after(time());
       }
