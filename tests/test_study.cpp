@@ -44,6 +44,17 @@ fs::path write_study(const fs::path& out, const std::string& name = "study") {
   return file;
 }
 
+/// A resumed study's OR run restarts from its checkpoint and says only that: not the 0D
+/// start that its first run made.
+void expect_plain_restart(const std::string& output) {
+  EXPECT_NE(output.find("[OR run] restarting from step"), std::string::npos) << output;
+  for (std::size_t at = output.find("[OR run]"); at != std::string::npos;
+       at = output.find("[OR run]", at + 1))
+    EXPECT_EQ(output.substr(at, output.find('\n', at) - at).find("periodic 0D state"),
+              std::string::npos)
+        << output.substr(at, 120);
+}
+
 TEST(Study, BadStudyFileIsAClearError) {
   const fs::path dir = testing::fresh_dir("study-bad");
   const fs::path file = write_study(dir);
@@ -160,13 +171,7 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output.find("[OR geometry]"), std::string::npos) << "geometry was redone";
   EXPECT_EQ(r.output.find("[OR tune]"), std::string::npos) << "tuning was redone";
-  EXPECT_NE(r.output.find("[OR run] restarting from step"), std::string::npos) << r.output;
-  // A restart says so and only so: not the 0D start that the first run made.
-  for (std::size_t at = r.output.find("[OR run]"); at != std::string::npos;
-       at = r.output.find("[OR run]", at + 1))
-    EXPECT_EQ(r.output.substr(at, r.output.find('\n', at) - at).find("periodic 0D state"),
-              std::string::npos)
-        << r.output.substr(at, 120);
+  expect_plain_restart(r.output);
   // Same results: the restart reproduces the uninterrupted run to solver tolerance (Newton
   // rtol 1e-6), so the cycle's metrics agree far inside 1e-4 relative.
   for (const char* v : {"OR", "EN"}) {
@@ -269,13 +274,7 @@ TEST(Study, CompliantStudyTunesInItsRunAndResumes) {
   r = testing::run_tearflow("study " + study_b.string());
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output.find("[OR geometry]"), std::string::npos) << "geometry was redone";
-  EXPECT_NE(r.output.find("[OR run] restarting from step"), std::string::npos) << r.output;
-  // A restart says so and only so: not the 0D start that the first run made.
-  for (std::size_t at = r.output.find("[OR run]"); at != std::string::npos;
-       at = r.output.find("[OR run]", at + 1))
-    EXPECT_EQ(r.output.substr(at, r.output.find('\n', at) - at).find("periodic 0D state"),
-              std::string::npos)
-        << r.output.substr(at, 120);
+  expect_plain_restart(r.output);
   const json ta = read_json(out / "OR" / "run" / "tuning.json");
   const json tb = read_json(b / "results" / "OR" / "run" / "tuning.json");
   ASSERT_EQ(tb["steps"].size(), ta["steps"].size());
