@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_support.hpp"
+#include "core/digest.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
 #include "run/run_fingerprint.hpp"
@@ -148,7 +149,7 @@ TEST(Checkpoint, DamagedFilesAreInputErrorsNamingTheFile) {
   const std::size_t solution_length = b.size() - 8 - 4 - (8 + 2 * 8) - (8 + 6 * 8) - (8 + 6 * 8);
   ASSERT_EQ(std::memcmp(huge.data() + solution_length, "\x06\0\0\0\0\0\0\0", 8), 0);
   std::memcpy(huge.data() + solution_length, &length, 8);
-  const std::uint64_t sum = tearflow::io::fnv1a(huge.data(), huge.size() - 8);
+  const std::uint64_t sum = tearflow::fnv1a(huge.data(), huge.size() - 8);
   std::memcpy(huge.data() + huge.size() - 8, &sum, 8);
   write_bytes(dir / "huge.bin", huge);
   EXPECT_THAT(error_reading(dir / "huge.bin"),

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "core/digest.hpp"
 #include "core/error.hpp"
 #include "io/durable_file.hpp"
 
@@ -94,15 +95,6 @@ std::string first_not_finite(const std::vector<double>& v) {
 }
 
 } // namespace
-
-std::uint64_t fnv1a(const void* bytes, std::size_t size, std::uint64_t hash) {
-  const auto* p = static_cast<const unsigned char*>(bytes);
-  for (std::size_t i = 0; i < size; ++i) {
-    hash ^= p[i];
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
-}
 
 void write_checkpoint(const std::filesystem::path& file, const Checkpoint& c) {
   Writer w;

@@ -45,8 +45,4 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint& c);
 /// time_step, sizes that disagree, a value that is not finite).
 Checkpoint read_checkpoint(const std::filesystem::path& file);
 
-/// FNV-1a 64 of `bytes`, continuing from `hash` (for digests of several pieces).
-std::uint64_t fnv1a(const void* bytes, std::size_t size,
-                    std::uint64_t hash = 0xcbf29ce484222325ULL);
-
 } // namespace tearflow::io

@@ -6,14 +6,15 @@
 
 #include <fmt/format.h>
 
+#include "core/digest.hpp"
 #include "core/error.hpp"
 
 namespace tearflow::run {
 
 namespace {
 
-std::uint64_t digest(const std::vector<double>& v, std::uint64_t h = 0xcbf29ce484222325ULL) {
-  return io::fnv1a(v.data(), v.size() * sizeof(double), h);
+std::uint64_t digest(const std::vector<double>& v) {
+  return fnv1a(v.data(), v.size() * sizeof(double));
 }
 
 /// A waveform as its values at 97 times over its period (or its one value): what the run
@@ -51,9 +52,9 @@ std::string condition(const io::BoundaryCondition& b) {
 
 io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
   io::Fingerprint f;
-  std::uint64_t h = io::fnv1a(m.points.data(), m.points.size() * sizeof(Vec3));
-  h = io::fnv1a(m.tets.data(), m.tets.size() * sizeof(m.tets[0]), h);
-  h = io::fnv1a(m.tet_region.data(), m.tet_region.size() * sizeof(int), h);
+  std::uint64_t h = fnv1a(m.points.data(), m.points.size() * sizeof(Vec3));
+  h = fnv1a(m.tets.data(), m.tets.size() * sizeof(m.tets[0]), h);
+  h = fnv1a(m.tet_region.data(), m.tet_region.size() * sizeof(int), h);
   f.emplace_back("mesh", fmt::format("{} nodes, {} tets, {} regions, digest {:016x}", m.num_nodes(),
                                      m.tets.size(), m.regions.size(), h));
   f.emplace_back("time step", fmt::format("{} s", c.time.step));
