@@ -114,6 +114,11 @@ void RunRecord::load_csv(const std::filesystem::path& file, int last_step) {
         f.distal_pressure = std::stod(cells[7]);
       rows.back().faces.push_back(f);
     } catch (const std::exception&) {
+      // Rows are appended as steps end: a last line without its newline was cut short by a
+      // kill or a full disk, after the checkpoint's rewrite of the whole file (so after the
+      // checkpoint's step), and is dropped with the rows it would have ended.
+      if (in.eof())
+        break;
       input_error("{}:{}: expected {} numbers, got '{}'", file.string(), number, csv_header, line);
     }
   }
