@@ -1,12 +1,11 @@
 // tearflow: the command-line program.
-//   tearflow run [CASE.yaml] [--restart] [-o DIR] [--steps N] [--targets T.yaml] [-- PETSc]
-//   tearflow verify NAME [--convergence] | --list
-//   tearflow geometry tbad|import|report ...   (docs/geometry.md)
-//   tearflow tune CASE.yaml --targets TARGETS.yaml [-o TUNED.yaml]   (docs/tuning.md)
-//   tearflow analyze RUN_DIR [--landmarks FILE] [--cycle N | --frames all]   (docs/analysis.md)
-//   tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]                   (docs/analysis.md)
-//   tearflow study STUDY.yaml [--check]                                      (docs/study.md)
-//   tearflow mri synthesize|flow|compare ...                                 (docs/mri.md)
+//   tearflow run [CASE.yaml] [--restart | --start-from CHECKPOINT] [-o DIR] [--steps N] [--targets
+//   T.yaml] [-- PETSc] tearflow verify NAME [--convergence] | --list tearflow geometry
+//   tbad|import|report ...   (docs/geometry.md) tearflow tune CASE.yaml --targets TARGETS.yaml [-o
+//   TUNED.yaml]   (docs/tuning.md) tearflow analyze RUN_DIR [--landmarks FILE] [--cycle N |
+//   --frames all]   (docs/analysis.md) tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]
+//   (docs/analysis.md) tearflow study STUDY.yaml [--check] (docs/study.md) tearflow mri
+//   synthesize|flow|compare ...                                 (docs/mri.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
@@ -50,8 +49,15 @@ io::Case load_case_everywhere(const std::string& file) {
   }
 }
 
-int run_command(const std::string& case_file, bool restart, const std::string& output, bool quiet,
-                const std::string& cli_petsc, int steps, const std::string& targets_file) {
+/// `tearflow run`'s arguments.
+struct RunArgs {
+  std::string case_file, output, targets_file, start_from;
+  bool restart = false, quiet = false;
+  int steps = 0;
+};
+
+int run_command(const RunArgs& args, const std::string& cli_petsc) {
+  const auto& [case_file, output, targets_file, start_from, restart, quiet, steps] = args;
   io::Case c = case_file.empty() ? run::default_case() : load_case_everywhere(case_file);
   if (steps > 0)
     c.time.steps = steps;
@@ -64,12 +70,24 @@ int run_command(const std::string& case_file, bool restart, const std::string& o
   if (root && !quiet)
     fmt::print("tearflow run '{}': {} steps of {} s, output in '{}'\n", c.name, c.time.steps,
                c.time.step, c.output.directory.string());
+  if (!start_from.empty()) {
+    if (restart || !targets_file.empty())
+      input_error("--start-from starts a new run: not with --restart or --targets");
+    if (c.solid && c.boundary_conditions.empty())
+      input_error("--start-from is for flow and FSI cases, not a solid-only case");
+    // The new run's files would replace the run the state comes from.
+    if (std::filesystem::weakly_canonical(std::filesystem::absolute(start_from)).parent_path() ==
+        std::filesystem::weakly_canonical(c.output.directory))
+      input_error("--start-from '{}' lies in the output folder '{}': the new run would replace "
+                  "that run's files; give another folder with -o",
+                  start_from, c.output.directory.string());
+  }
   if (!targets_file.empty()) { // outlets corrected at cycle ends (tuning/corrected_run.hpp)
     if (case_file.empty() || (c.solid && c.boundary_conditions.empty()))
       input_error("--targets needs a flow case with RCR outlets (docs/tuning.md)");
     const tuning::CorrectedRun r =
         tuning::run_corrected(c, case_file, tuning::load_targets(targets_file), targets_file,
-                              {restart, !quiet, true, {}});
+                              {restart, {}, !quiet, true, {}});
     if (root && !quiet)
       fmt::print("done: {} steps in {:.1f} s, targets {} by the last cycle; results and the "
                  "tuned case in '{}'\n",
@@ -81,7 +99,8 @@ int run_command(const std::string& case_file, bool restart, const std::string& o
     if (root && !quiet)
       fmt::print("mesh: {} nodes, {} tets on {} rank(s)\n", sim.mesh().num_nodes(),
                  sim.mesh().num_tets(), fem::mpi_size());
-    const run::RunSummary s = sim.run({restart, !quiet, true, {}});
+    run::RunOptions options{restart, start_from, !quiet, true, {}};
+    const run::RunSummary s = sim.run(options);
     if (root && !quiet)
       fmt::print("done: {} steps in {:.1f} s; results in '{}'\n", s.steps, s.wall_seconds,
                  sim.config().output.directory.string());
@@ -172,18 +191,21 @@ int main(int argc, char** argv) {
 
   CLI::App app{"tearflow: blood flow and pressure in type B aortic dissection"};
   app.require_subcommand(1);
-  std::string case_file, output, verify_name, targets_file;
-  bool restart = false, quiet = false, list = false;
-  int steps = 0;
+  RunArgs run_args;
+  std::string verify_name;
+  bool list = false;
   verify::VerifyOptions verify_options;
   auto* run = app.add_subcommand("run", "run a simulation case (built-in pulsatile pipe if none)");
-  run->add_option("case", case_file, "case file (YAML)");
-  run->add_flag("--restart", restart, "continue from the output directory's checkpoint");
-  run->add_option("-o,--output", output, "output directory (overrides the case file)");
-  run->add_flag("-q,--quiet", quiet, "no progress lines");
-  run->add_option("--steps", steps, "stop at this step (overrides time.steps and cycles)")
+  run->add_option("case", run_args.case_file, "case file (YAML)");
+  run->add_flag("--restart", run_args.restart, "continue from the output directory's checkpoint");
+  run->add_option("--start-from", run_args.start_from,
+                  "start a new run from this checkpoint's state and time (the same case; its "
+                  "time step may differ)");
+  run->add_option("-o,--output", run_args.output, "output directory (overrides the case file)");
+  run->add_flag("-q,--quiet", run_args.quiet, "no progress lines");
+  run->add_option("--steps", run_args.steps, "stop at this step (overrides time.steps and cycles)")
       ->check(CLI::Range(1, 1000000000)); // not PositiveNumber: its message prints DBL_MAX
-  run->add_option("--targets", targets_file,
+  run->add_option("--targets", run_args.targets_file,
                   "correct the RCR outlets at every cycle's end until a periodic cycle meets "
                   "these targets (docs/tuning.md)");
   auto* verify = app.add_subcommand("verify", "run a built-in verification case, print JSON");
@@ -211,7 +233,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(static_cast<int>(ours.size()), ours.data());
     if (*run)
-      code = run_command(case_file, restart, output, quiet, cli_petsc, steps, targets_file);
+      code = run_command(run_args, cli_petsc);
     if (*verify) {
       code = verify_command(verify_name, list, verify_options);
       all_ranks_stopped = true; // the same code on every rank

@@ -109,6 +109,7 @@ TEST(CliRun, RestartOfAChangedCaseIsRefusedNamingTheChange) {
   const Result step = restart("step: 0.01, steps: 6", "step: 0.005, steps: 12");
   EXPECT_NE(step.code, 0);
   EXPECT_THAT(step.output, testing::HasSubstr("time step: 0.01 s in the checkpoint; now 0.005 s"));
+  EXPECT_THAT(step.output, testing::HasSubstr("--start-from " + (dir / "checkpoint.bin").string()));
   const Result outlet = restart("resistance: 1.0e8", "resistance: 2.0e8");
   EXPECT_NE(outlet.code, 0);
   EXPECT_THAT(outlet.output, testing::HasSubstr("face outlet: resistance 100000000 Pa s/m^3"));
@@ -119,6 +120,72 @@ TEST(CliRun, RestartOfAChangedCaseIsRefusedNamingTheChange) {
                                                  "last step 2"));
   std::ifstream after_in(dir / "faces.csv");
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after_in)), {}), faces);
+}
+
+TEST(CliRun, StartFromACheckpointGoesOnAtItsTimeWithTheCasesStep) {
+  // A finer step from a periodic state (the time-step study of docs/performance.md): the
+  // state and time come from the checkpoint, the step from the case.
+  const fs::path full = fresh_dir("start-full"), half = fresh_dir("start-half");
+  const fs::path same = fresh_dir("start-same"), finer = fresh_dir("start-finer");
+  const std::string pipe = (data / "runs/small_pipe.yaml").string();
+  ASSERT_EQ(run("run " + pipe + " -q -o " + full.string()).code, 0);
+  ASSERT_EQ(
+      run("run " + (data / "runs/small_pipe_half.yaml").string() + " -q -o " + half.string()).code,
+      0);
+  const std::string checkpoint = (half / "checkpoint.bin").string();
+  std::ifstream original_in(pipe);
+  const std::string original((std::istreambuf_iterator<char>(original_in)), {});
+  const auto variant = [&](const std::string& name, const std::string& from,
+                           const std::string& to) {
+    std::string text = original;
+    text.replace(text.find(from), from.size(), to);
+    const fs::path file = half.parent_path() / (name + ".yaml");
+    std::ofstream(file) << text;
+    return file.string();
+  };
+
+  // The same step: the same operations on the same state as the uninterrupted run.
+  const Result a = run("run " + pipe + " -q --start-from " + checkpoint + " -o " + same.string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  const auto ra = read_faces(full), rs = read_faces(same);
+  ASSERT_EQ(rs.size(), 4u * 3u); // steps 3..6
+  for (const auto& [key, v] : rs) {
+    EXPECT_NEAR(v.first, ra.at(key).first, 1e-12 * (std::abs(v.first) + 1e-9)) << key.second;
+    EXPECT_NEAR(v.second, ra.at(key).second, 1e-9 * (std::abs(v.second) + 1e-3)) << key.second;
+  }
+
+  // Half the step: steps 6..12 from t = 0.03 s. The pipe is rigid and its fluid
+  // incompressible, so the outlet's flow at t is the inlet's waveform at t whatever the step
+  // (to the solver's 1e-10): the same at step 12 as the full run's step 6 if time goes on
+  // from the checkpoint's.
+  const Result b =
+      run("run " + variant("start-finer", "step: 0.01, steps: 6", "step: 0.005, steps: 12") +
+          " -q --start-from " + checkpoint + " -o " + finer.string());
+  ASSERT_EQ(b.code, 0) << b.output;
+  const auto rf = read_faces(finer);
+  ASSERT_EQ(rf.size(), 7u * 3u); // steps 6..12
+  EXPECT_NEAR(rf.at({12, "outlet"}).first, ra.at({6, "outlet"}).first,
+              1e-8 * std::abs(ra.at({6, "outlet"}).first));
+  EXPECT_NEAR(rf.at({6, "outlet"}).second, ra.at({3, "outlet"}).second, 1e-9); // the state
+  std::ifstream pvd(finer / "flow.pvd");
+  const std::string text((std::istreambuf_iterator<char>(pvd)), {});
+  EXPECT_THAT(text, testing::HasSubstr("timestep=\"0.03\""));
+
+  // Refused: a time that is no whole number of steps, another case, its own folder.
+  const Result odd =
+      run("run " + variant("start-odd", "step: 0.01, steps: 6", "step: 0.02, steps: 3") +
+          " -q --start-from " + checkpoint + " -o " + fresh_dir("start-odd").string());
+  EXPECT_NE(odd.code, 0);
+  EXPECT_THAT(odd.output, testing::HasSubstr("not a whole number of the case's steps of 0.02 s"));
+  const Result other =
+      run("run " + variant("start-other", "viscosity: 0.004", "viscosity: 0.0035") +
+          " -q --start-from " + checkpoint + " -o " + fresh_dir("start-other").string());
+  EXPECT_NE(other.code, 0);
+  EXPECT_THAT(other.output, testing::HasSubstr("is the state of a different case"));
+  EXPECT_THAT(other.output, testing::HasSubstr("fluid: density 1060 kg/m^3, viscosity 0.004"));
+  const Result own = run("run " + pipe + " -q --start-from " + checkpoint + " -o " + half.string());
+  EXPECT_NE(own.code, 0);
+  EXPECT_THAT(own.output, testing::HasSubstr("would replace that run's files"));
 }
 
 TEST(CliRun, TwoRanksAgreeWithOne) {

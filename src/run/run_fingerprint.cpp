@@ -1,6 +1,7 @@
 #include "run/run_fingerprint.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -84,34 +85,79 @@ io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
   return f;
 }
 
-void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
-                   int block, int last_step, const std::filesystem::path& file) {
-  if (checkpoint.num_nodes != num_nodes || checkpoint.block != block)
-    input_error("checkpoint '{}' has {} nodes x {} unknowns, the case's mesh {} x {}",
-                file.string(), checkpoint.num_nodes, checkpoint.block, num_nodes, block);
-  const std::map<std::string, std::string> then(checkpoint.fingerprint.begin(),
-                                                checkpoint.fingerprint.end());
-  std::map<std::string, std::string> current(now.begin(), now.end());
+namespace {
+
+/// "" when the checkpoint's parts equal `now`'s (parts named in `skip` aside), else a line
+/// per part that changed.
+std::string changes(const io::Fingerprint& then_parts, const io::Fingerprint& now,
+                    const std::string& skip) {
+  const std::map<std::string, std::string> then(then_parts.begin(), then_parts.end());
+  const std::map<std::string, std::string> current(now.begin(), now.end());
   std::string changed;
   for (const auto& [part, value] : current) {
     const auto it = then.find(part);
+    if (part == skip)
+      continue;
     if (it == then.end())
       changed += fmt::format("\n  {}: not in the checkpoint; now {}", part, value);
     else if (it->second != value)
       changed += fmt::format("\n  {}: {} in the checkpoint; now {}", part, it->second, value);
   }
   for (const auto& [part, value] : then)
-    if (!current.contains(part))
+    if (part != skip && !current.contains(part))
       changed += fmt::format("\n  {}: {} in the checkpoint; not in the case now", part, value);
-  if (!changed.empty())
+  return changed;
+}
+
+void check_size(const io::Checkpoint& checkpoint, Index num_nodes, int block,
+                const std::filesystem::path& file) {
+  if (checkpoint.num_nodes != num_nodes || checkpoint.block != block)
+    input_error("checkpoint '{}' has {} nodes x {} unknowns, the case's mesh {} x {}",
+                file.string(), checkpoint.num_nodes, checkpoint.block, num_nodes, block);
+}
+
+} // namespace
+
+void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
+                   int block, int last_step, const std::filesystem::path& file) {
+  check_size(checkpoint, num_nodes, block, file);
+  if (const std::string changed = changes(checkpoint.fingerprint, now, ""); !changed.empty()) {
+    // Only the step changed: the state itself can start a run at the new step.
+    const bool step_only = changes(checkpoint.fingerprint, now, "time step").empty();
     input_error("checkpoint '{}' was written by a different run; what changed since:{}\nA "
-                "restart continues the same run; run the changed case from the start (without "
-                "--restart), into another output folder to keep this one",
-                file.string(), changed);
+                "restart continues the same run; {}",
+                file.string(), changed,
+                step_only ? fmt::format("to go on from its state at the new step, start a new run "
+                                        "from it: --start-from {} -o ANOTHER_FOLDER",
+                                        file.string())
+                          : "run the changed case from the start (without --restart), into "
+                            "another output folder to keep this one");
+  }
   if (checkpoint.step > last_step)
     input_error("checkpoint '{}' is at step {} (t = {:.6g} s), past the case's last step {}: "
                 "nothing to continue (raise the case's time.steps, end or cycles)",
                 file.string(), checkpoint.step, checkpoint.time, last_step);
+}
+
+int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
+                int block, double time_step, int last_step, const std::filesystem::path& file) {
+  check_size(checkpoint, num_nodes, block, file);
+  if (const std::string changed = changes(checkpoint.fingerprint, now, "time step");
+      !changed.empty())
+    input_error("checkpoint '{}' is the state of a different case; what differs:{}\n--start-from "
+                "takes the state of the same case (the time step aside)",
+                file.string(), changed);
+  const double steps = checkpoint.time / time_step;
+  const int step = static_cast<int>(std::lround(steps));
+  if (std::abs(steps - step) > 1e-9 * std::max(1.0, steps))
+    input_error("checkpoint '{}' is at t = {:.9g} s, not a whole number of the case's steps of "
+                "{} s: start from a checkpoint at such a time (a cycle's end)",
+                file.string(), checkpoint.time, time_step);
+  if (step >= last_step)
+    input_error("checkpoint '{}' is at t = {:.6g} s, step {} of {} s, not before the case's last "
+                "step {}: nothing to run (raise the case's time.steps, end or cycles)",
+                file.string(), checkpoint.time, step, time_step, last_step);
+  return step;
 }
 
 } // namespace tearflow::run

@@ -22,4 +22,11 @@ io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m);
 void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
                    int block, int last_step, const std::filesystem::path& file);
 
+/// InputError naming `file` when the checkpoint cannot start a new run of this case at its
+/// time (`run --start-from`): as check_restart, except that the time step may differ, and
+/// the checkpoint's time must then be a whole number of the case's steps (the new run's
+/// first step number; returned) within 1e-9 of a step.
+int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
+                int block, double time_step, int last_step, const std::filesystem::path& file);
+
 } // namespace tearflow::run

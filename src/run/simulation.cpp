@@ -390,7 +390,18 @@ RunSummary Simulation::run(const RunOptions& options) {
       fmt::print("restarting from step {} (t = {:.6g} s) of '{}'{}\n", step_, time(),
                  checkpoint_file.string(), c.exact_operator ? ", with the exact operator" : "");
   } else {
-    if (root && options.progress)
+    if (!options.start_from.empty()) {
+      const io::Checkpoint c = io::read_checkpoint(options.start_from);
+      const int first = check_start(c, run_fingerprint(case_, mesh_), mesh_.num_nodes(), block(),
+                                    case_.time.step, case_.time.steps, options.start_from);
+      set_state(first, c.solution, c.derivative);
+      set_outlet_checkpoint(c.extra, options.start_from);
+      if (c.exact_operator)
+        fsi_ ? fsi_solver_->use_exact_operator() : solver_->use_exact_operator();
+      if (root && options.progress)
+        spdlog::info("start from the state at t = {:.6g} s of '{}' (its step {} s, now {} s)",
+                     time(), options.start_from.string(), c.time_step, case_.time.step);
+    } else if (root && options.progress)
       for (const std::string& note : start_notes_)
         spdlog::info("{}", note);
     if (options.write_output)

@@ -16,6 +16,9 @@ namespace tearflow::run {
 
 struct RunOptions {
   bool restart = false; ///< continue from the output directory's checkpoint
+  /// A checkpoint (of this case, perhaps at another time step) whose state starts a new run
+  /// at its time, e.g. a finer step from a periodic state; empty: the case's own start.
+  std::filesystem::path start_from;
   bool progress = true; ///< one progress line per step on stdout
   bool write_output = true;
   /// Called at the end of every cycle with its statistics and whether it is periodic by the
