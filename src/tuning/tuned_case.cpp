@@ -32,9 +32,11 @@ std::string tuned_yaml(const std::filesystem::path& case_file, const io::Case& t
         for (const char* key : {"resistance", "initial_distal_pressure"})
           item.remove(key);
         item["type"] = "rcr";
-        item["proximal_resistance"] = fmt::format("{:.6g}", b.rcr.proximal_resistance);
-        item["capacitance"] = fmt::format("{:.6g}", b.rcr.capacitance);
-        item["distal_resistance"] = fmt::format("{:.6g}", b.rcr.distal_resistance);
+        // The shortest text that reads back as the same number: the tuned case holds the
+        // run's outlets exactly, so the run's checkpoint starts it (run --start-from).
+        item["proximal_resistance"] = fmt::format("{}", b.rcr.proximal_resistance);
+        item["capacitance"] = fmt::format("{}", b.rcr.capacitance);
+        item["distal_resistance"] = fmt::format("{}", b.rcr.distal_resistance);
       }
   }
   YAML::Emitter emitter;
