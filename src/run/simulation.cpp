@@ -396,8 +396,8 @@ RunSummary Simulation::run(const RunOptions& options) {
                                     case_.time.step, case_.time.steps, options.start_from);
       set_state(first, c.solution, c.derivative);
       set_outlet_checkpoint(c.extra, options.start_from);
-      if (c.exact_operator)
-        fsi_ ? fsi_solver_->use_exact_operator() : solver_->use_exact_operator();
+      // Not the exact operator the run may have switched to: that was its step's need; at
+      // another step Newton falls back to it again if it must (fluid_solver.cpp).
       if (root && options.progress)
         spdlog::info("start from the state at t = {:.6g} s of '{}' (its step {} s, now {} s)",
                      time(), options.start_from.string(), c.time_step, case_.time.step);
