@@ -1,8 +1,9 @@
 // tearflow: the command-line program.
-//   tearflow run [CASE.yaml] [--restart | --start-from CHECKPOINT] [-o DIR] [--steps N] [--targets
-//   T.yaml] [-- PETSc] tearflow verify NAME [--convergence] | --list tearflow geometry
-//   tbad|import|report ...   (docs/geometry.md) tearflow tune CASE.yaml --targets TARGETS.yaml [-o
-//   TUNED.yaml]   (docs/tuning.md) tearflow analyze RUN_DIR [--landmarks FILE] [--cycle N |
+//   tearflow run [CASE.yaml] [--restart | --start-from CHECKPOINT [--start-case CASE]] [-o DIR]
+//   [--steps N] [--targets T.yaml] [-- PETSc] tearflow verify NAME [--convergence] | --list
+//   tearflow geometry tbad|import|report ...   (docs/geometry.md) tearflow tune CASE.yaml --targets
+//   TARGETS.yaml [-o TUNED.yaml]   (docs/tuning.md) tearflow analyze RUN_DIR [--landmarks FILE]
+//   [--cycle N |
 //   --frames all]   (docs/analysis.md) tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]
 //   (docs/analysis.md) tearflow study STUDY.yaml [--check] (docs/study.md) tearflow mri
 //   synthesize|flow|compare ...                                 (docs/mri.md)
@@ -51,13 +52,14 @@ io::Case load_case_everywhere(const std::string& file) {
 
 /// `tearflow run`'s arguments.
 struct RunArgs {
-  std::string case_file, output, targets_file, start_from;
+  std::string case_file, output, targets_file, start_from, start_case;
   bool restart = false, quiet = false;
   int steps = 0;
 };
 
 int run_command(const RunArgs& args, const std::string& cli_petsc) {
-  const auto& [case_file, output, targets_file, start_from, restart, quiet, steps] = args;
+  const auto& [case_file, output, targets_file, start_from, start_case, restart, quiet, steps] =
+      args;
   io::Case c = case_file.empty() ? run::default_case() : load_case_everywhere(case_file);
   if (steps > 0)
     c.time.steps = steps;
@@ -70,6 +72,8 @@ int run_command(const RunArgs& args, const std::string& cli_petsc) {
   if (root && !quiet)
     fmt::print("tearflow run '{}': {} steps of {} s, output in '{}'\n", c.name, c.time.steps,
                c.time.step, c.output.directory.string());
+  if (!start_case.empty() && start_from.empty())
+    input_error("--start-case names the case of --start-from's run: give --start-from too");
   if (!start_from.empty()) {
     if (restart || !targets_file.empty())
       input_error("--start-from starts a new run: not with --restart or --targets");
@@ -87,7 +91,7 @@ int run_command(const RunArgs& args, const std::string& cli_petsc) {
       input_error("--targets needs a flow case with RCR outlets (docs/tuning.md)");
     const tuning::CorrectedRun r =
         tuning::run_corrected(c, case_file, tuning::load_targets(targets_file), targets_file,
-                              {restart, {}, !quiet, true, {}});
+                              {restart, {}, {}, !quiet, true, {}});
     if (root && !quiet)
       fmt::print("done: {} steps in {:.1f} s, targets {} by the last cycle; results and the "
                  "tuned case in '{}'\n",
@@ -99,7 +103,7 @@ int run_command(const RunArgs& args, const std::string& cli_petsc) {
     if (root && !quiet)
       fmt::print("mesh: {} nodes, {} tets on {} rank(s)\n", sim.mesh().num_nodes(),
                  sim.mesh().num_tets(), fem::mpi_size());
-    run::RunOptions options{restart, start_from, !quiet, true, {}};
+    run::RunOptions options{restart, start_from, start_case, !quiet, true, {}};
     const run::RunSummary s = sim.run(options);
     if (root && !quiet)
       fmt::print("done: {} steps in {:.1f} s; results in '{}'\n", s.steps, s.wall_seconds,
@@ -201,6 +205,9 @@ int main(int argc, char** argv) {
   run->add_option("--start-from", run_args.start_from,
                   "start a new run from this checkpoint's state and time (the same case; its "
                   "time step may differ)");
+  run->add_option("--start-case", run_args.start_case,
+                  "the case of --start-from's run, when its mesh is another one: the state is "
+                  "interpolated to this case's mesh");
   run->add_option("-o,--output", run_args.output, "output directory (overrides the case file)");
   run->add_flag("-q,--quiet", run_args.quiet, "no progress lines");
   run->add_option("--steps", run_args.steps, "stop at this step (overrides time.steps and cycles)")

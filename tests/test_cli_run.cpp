@@ -188,6 +188,53 @@ TEST(CliRun, StartFromACheckpointGoesOnAtItsTimeWithTheCasesStep) {
   EXPECT_THAT(own.output, testing::HasSubstr("would replace that run's files"));
 }
 
+TEST(CliRun, StartFromAnotherMeshInterpolatesTheState) {
+  // A coarse run's state starts a run on a finer mesh of the same pipe (how a study's
+  // resolution starts from a coarse periodic state: docs/outputs.md).
+  const fs::path coarse = fresh_dir("interp-coarse"), fine = fresh_dir("interp-fine");
+  const std::string half = (data / "runs/small_pipe_half.yaml").string();
+  ASSERT_EQ(run("run " + half + " -q -o " + coarse.string()).code, 0);
+  std::ifstream original_in(data / "runs/small_pipe.yaml");
+  const std::string original((std::istreambuf_iterator<char>(original_in)), {});
+  const auto variant = [&](const std::string& name, const std::string& from,
+                           const std::string& to) {
+    std::string text = original;
+    text.replace(text.find(from), from.size(), to);
+    const fs::path file = coarse.parent_path() / (name + ".yaml");
+    std::ofstream(file) << text;
+    return file.string();
+  };
+  const std::string finer = variant("interp-fine", "element_size: 0.0016", "element_size: 0.0012");
+  const std::string start = " -q --start-from " + (coarse / "checkpoint.bin").string();
+  const Result r = run("run " + finer + " --start-from " + (coarse / "checkpoint.bin").string() +
+                       " --start-case " + half + " -o " + fine.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_THAT(r.output, testing::HasSubstr("interpolated to this mesh"));
+  const auto rc = read_faces(coarse), rf = read_faces(fine);
+  ASSERT_EQ(rf.size(), 4u * 3u); // steps 3..6
+  // The interpolated state's outlet flow: the coarse P1 field's flow up to the interpolation
+  // error of the parabolic profile, (1/8) h^2 |u''| = h^2 / (4 R^2) of its peak (h 1.6 mm, R
+  // 5 mm: 2.6 %; the mean flow is half the peak's: 5.1 % of it).
+  const double q = rc.at({3, "outlet"}).first;
+  EXPECT_NEAR(rf.at({3, "outlet"}).first, q, 0.051 * std::abs(q));
+
+  // Refused: another mesh without its case, a case other than the checkpoint's, and a
+  // source case with other physics.
+  const Result bare = run("run " + finer + start + " -o " + fresh_dir("interp-bare").string());
+  EXPECT_NE(bare.code, 0);
+  EXPECT_THAT(bare.output, testing::HasSubstr("when --start-case names the case"));
+  const Result wrong = run("run " + finer + start + " --start-case " + finer + " -o " +
+                           fresh_dir("interp-wrong").string());
+  EXPECT_NE(wrong.code, 0);
+  EXPECT_THAT(wrong.output, testing::HasSubstr("is the state of a different case"));
+  EXPECT_THAT(wrong.output, testing::HasSubstr("mesh: "));
+  const std::string thicker = variant("interp-other", "viscosity: 0.004", "viscosity: 0.0035");
+  const Result other = run("run " + thicker + start + " --start-case " + half + " -o " +
+                           fresh_dir("interp-other").string());
+  EXPECT_NE(other.code, 0);
+  EXPECT_THAT(other.output, testing::HasSubstr("differs from this case in more than the mesh"));
+}
+
 TEST(CliRun, TwoRanksAgreeWithOne) {
   const fs::path one = fresh_dir("one"), two = fresh_dir("two");
   const std::string args = (data / "runs/small_pipe.yaml").string() + " -q -o ";

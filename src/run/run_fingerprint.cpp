@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <string>
 
 #include <fmt/format.h>
@@ -90,13 +91,13 @@ namespace {
 /// "" when the checkpoint's parts equal `now`'s (parts named in `skip` aside), else a line
 /// per part that changed.
 std::string changes(const io::Fingerprint& then_parts, const io::Fingerprint& now,
-                    const std::string& skip) {
+                    const std::set<std::string>& skip) {
   const std::map<std::string, std::string> then(then_parts.begin(), then_parts.end());
   const std::map<std::string, std::string> current(now.begin(), now.end());
   std::string changed;
   for (const auto& [part, value] : current) {
     const auto it = then.find(part);
-    if (part == skip)
+    if (skip.contains(part))
       continue;
     if (it == then.end())
       changed += fmt::format("\n  {}: not in the checkpoint; now {}", part, value);
@@ -104,7 +105,7 @@ std::string changes(const io::Fingerprint& then_parts, const io::Fingerprint& no
       changed += fmt::format("\n  {}: {} in the checkpoint; now {}", part, it->second, value);
   }
   for (const auto& [part, value] : then)
-    if (part != skip && !current.contains(part))
+    if (!skip.contains(part) && !current.contains(part))
       changed += fmt::format("\n  {}: {} in the checkpoint; not in the case now", part, value);
   return changed;
 }
@@ -121,9 +122,9 @@ void check_size(const io::Checkpoint& checkpoint, Index num_nodes, int block,
 void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
                    int block, int last_step, const std::filesystem::path& file) {
   check_size(checkpoint, num_nodes, block, file);
-  if (const std::string changed = changes(checkpoint.fingerprint, now, ""); !changed.empty()) {
+  if (const std::string changed = changes(checkpoint.fingerprint, now, {}); !changed.empty()) {
     // Only the step changed: the state itself can start a run at the new step.
-    const bool step_only = changes(checkpoint.fingerprint, now, "time step").empty();
+    const bool step_only = changes(checkpoint.fingerprint, now, {"time step"}).empty();
     input_error("checkpoint '{}' was written by a different run; what changed since:{}\nA "
                 "restart continues the same run; {}",
                 file.string(), changed,
@@ -141,12 +142,16 @@ void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now,
 
 int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
                 int block, double time_step, int last_step, const std::filesystem::path& file) {
+  if (const std::string changed = changes(checkpoint.fingerprint, now, {"time step"});
+      !changed.empty()) {
+    const bool mesh_only = changes(checkpoint.fingerprint, now, {"time step", "mesh"}).empty();
+    input_error("checkpoint '{}' is the state of a different case; what differs:{}\n{}",
+                file.string(), changed,
+                mesh_only ? "A state on another mesh of the same case is interpolated to this "
+                            "mesh when --start-case names the case of the run that wrote it"
+                          : "--start-from takes the state of the same case (the time step aside)");
+  }
   check_size(checkpoint, num_nodes, block, file);
-  if (const std::string changed = changes(checkpoint.fingerprint, now, "time step");
-      !changed.empty())
-    input_error("checkpoint '{}' is the state of a different case; what differs:{}\n--start-from "
-                "takes the state of the same case (the time step aside)",
-                file.string(), changed);
   const double steps = checkpoint.time / time_step;
   const int step = static_cast<int>(std::lround(steps));
   if (std::abs(steps - step) > 1e-9 * std::max(1.0, steps))
@@ -158,6 +163,14 @@ int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, In
                 "step {}: nothing to run (raise the case's time.steps, end or cycles)",
                 file.string(), checkpoint.time, step, time_step, last_step);
   return step;
+}
+
+void check_same_but_mesh(const io::Fingerprint& source, const io::Fingerprint& now,
+                         const std::filesystem::path& source_case) {
+  if (const std::string changed = changes(source, now, {"mesh", "time step"}); !changed.empty())
+    input_error("case '{}' (the state's) differs from this case in more than the mesh and the "
+                "time step:{}",
+                source_case.string(), changed);
 }
 
 } // namespace tearflow::run

@@ -29,4 +29,10 @@ void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now,
 int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
                 int block, double time_step, int last_step, const std::filesystem::path& file);
 
+/// InputError naming `source_case` when that case (whose run wrote the checkpoint a new run
+/// starts from, on its own mesh) differs from the case now in anything but the mesh and the
+/// time step.
+void check_same_but_mesh(const io::Fingerprint& source, const io::Fingerprint& now,
+                         const std::filesystem::path& source_case);
+
 } // namespace tearflow::run

@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/units.hpp"
+#include "fem/node_transfer.hpp"
 #include "io/checkpoint.hpp"
 #include "io/vtu_series.hpp"
 #include "mesh/merge.hpp"
@@ -391,9 +392,12 @@ RunSummary Simulation::run(const RunOptions& options) {
                  checkpoint_file.string(), c.exact_operator ? ", with the exact operator" : "");
   } else {
     if (!options.start_from.empty()) {
-      const io::Checkpoint c = io::read_checkpoint(options.start_from);
-      const int first = check_start(c, run_fingerprint(case_, mesh_), mesh_.num_nodes(), block(),
-                                    case_.time.step, case_.time.steps, options.start_from);
+      io::Checkpoint c = io::read_checkpoint(options.start_from);
+      const int first =
+          options.start_case.empty()
+              ? check_start(c, run_fingerprint(case_, mesh_), mesh_.num_nodes(), block(),
+                            case_.time.step, case_.time.steps, options.start_from)
+              : take_state_of_mesh(c, options);
       set_state(first, c.solution, c.derivative);
       set_outlet_checkpoint(c.extra, options.start_from);
       // Not the exact operator the run may have switched to: that was its step's need; at
@@ -525,6 +529,36 @@ void Simulation::report_cycle(const analysis::CycleStats& c, bool periodic) cons
   fmt::print("cycle {} (t = {:.4g}-{:.4g} s): change {}{}{}\n", c.cycle + 1, c.t_begin, c.t_end,
              c.change ? fmt::format("{:.2e}", *c.change) : std::string("-"),
              periodic ? " (periodic)" : "", faces);
+}
+
+int Simulation::take_state_of_mesh(io::Checkpoint& c, const RunOptions& options) const {
+  const io::Case source = io::load_case(options.start_case);
+  const mesh::Mesh source_mesh = load_mesh(source);
+  const io::Fingerprint print = run_fingerprint(source, source_mesh);
+  const int first = check_start(c, print, source_mesh.num_nodes(), block(), case_.time.step,
+                                case_.time.steps, options.start_from);
+  check_same_but_mesh(print, run_fingerprint(case_, mesh_), options.start_case);
+  const fem::NodeTransfer transfer(source_mesh, mesh_);
+  // Each pressure from its own region's tets; velocity and du/dt are continuous.
+  const std::vector<std::string> unknowns =
+      fsi_ ? std::vector<std::string>{"", "", "", "fluid", "wall"}
+           : std::vector<std::string>{"", "", "", ""};
+  c.solution = transfer.apply(c.solution, block(), unknowns);
+  c.derivative = transfer.apply(c.derivative, block(), unknowns);
+  const size_t outlets = 2 * fluid().outlet_states().size();
+  if (fsi_ && c.extra.size() > outlets) { // the displacement: continuous
+    const std::vector<double> d = transfer.apply(
+        std::vector<double>(c.extra.begin() + static_cast<std::ptrdiff_t>(outlets), c.extra.end()),
+        block(), std::vector<std::string>(static_cast<size_t>(block()), ""));
+    c.extra.resize(outlets);
+    c.extra.insert(c.extra.end(), d.begin(), d.end());
+  }
+  if (fem::mpi_rank(dmesh_->comm()) == 0 && options.progress)
+    spdlog::info("the state of {} nodes ('{}') interpolated to this mesh's {} (nodes outside "
+                 "their region there: at most {:.3g} mm away)",
+                 source_mesh.num_nodes(), source_mesh.source, mesh_.num_nodes(),
+                 transfer.largest_distance() / units::mm);
+  return first;
 }
 
 std::vector<double> Simulation::outlet_checkpoint() const {

@@ -9,6 +9,7 @@
 #include "bc/windkessel_network.hpp"
 #include "fem/distributed_mesh.hpp"
 #include "io/case.hpp"
+#include "io/checkpoint.hpp"
 #include "physics/fluid_solver.hpp"
 #include "run/run_record.hpp"
 
@@ -19,6 +20,9 @@ struct RunOptions {
   /// A checkpoint (of this case, perhaps at another time step) whose state starts a new run
   /// at its time, e.g. a finer step from a periodic state; empty: the case's own start.
   std::filesystem::path start_from;
+  /// The case of the run that wrote `start_from`, when its mesh is another one than this
+  /// case's: the state is interpolated to this mesh (fem/node_transfer.hpp).
+  std::filesystem::path start_case;
   bool progress = true; ///< one progress line per step on stdout
   bool write_output = true;
   /// Called at the end of every cycle with its statistics and whether it is periodic by the
@@ -78,6 +82,9 @@ private:
   void load_wall(double p0);
   void write_frame();
   void report_cycle(const analysis::CycleStats& c, bool periodic) const;
+  /// The checkpoint `c` of options.start_case's run, on its mesh, checked and interpolated
+  /// to this mesh in place; returns the first step.
+  int take_state_of_mesh(io::Checkpoint& c, const RunOptions& options) const;
   std::vector<double> outlet_checkpoint() const;
   void set_outlet_checkpoint(const std::vector<double>& extra, const std::filesystem::path& file);
   const io::BoundaryCondition& bc_of(const std::string& face) const;

@@ -77,7 +77,7 @@ void measure_3d(const io::Case& c, const std::string& inlet, const TuningTargets
   run_case.time.steps = t.cycles * c.time.steps_per_cycle;
   run_case.time.periodicity_tolerance = 0.0;
   run::Simulation sim(run_case);
-  const run::RunSummary summary = sim.run({false, {}, false, false, {}});
+  const run::RunSummary summary = sim.run({false, {}, {}, false, false, {}});
   if (summary.cycles.empty())
     throw std::logic_error("the 3D run completed no cycle");
   measure_cycle(summary.cycles.back(), inlet, t, s);

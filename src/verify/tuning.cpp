@@ -64,7 +64,7 @@ VerificationResult verify_tuning(const VerifyOptions& options) {
   for (const auto& o : kTruthSplit)
     truth_fractions.push_back(o.fraction);
   run::Simulation truth(tuning::with_outlets(base, truth_setup, kTruth, truth_fractions));
-  const run::RunSummary measured = truth.run({false, {}, options.progress, false, {}});
+  const run::RunSummary measured = truth.run({false, {}, {}, options.progress, false, {}});
   tuning::TuningTargets targets;
   targets.pressure_tolerance = 0.01; // aim at 1 % and 0.5 points; accept 3 % and 2 points
   targets.split_tolerance = 0.5;
