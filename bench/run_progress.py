@@ -11,8 +11,8 @@ LINE = re.compile(r"step\s+(\d+)/\d+.*Newton (\d+) .*KSP\s+(\d+)\s+([\d.]+) s/st
                   r"\(assembly ([\d.]+) s\)")
 
 
-def run_case(case, ranks, out_dir, steps=None, cwd=None):
-    cmd = [BIN, "run", case, "-o", out_dir] + (["--steps", str(steps)] if steps else [])
+def run_case(case, ranks, out_dir, steps=None, cwd=None, extra=()):
+    cmd = [BIN, "run", case, "-o", out_dir] + (["--steps", str(steps)] if steps else []) + list(extra)
     if ranks > 1:
         cmd = ["mpirun", "-n", str(ranks)] + cmd
     cmd = ["/usr/bin/time", "-f", "MAXRSS %M"] + cmd
