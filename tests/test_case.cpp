@@ -219,6 +219,9 @@ TEST(LoadCase, MissingMeshNamesThePath) {
 // clang-format off
 INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
   BadCase{"bad_empty.yaml", 1, "", "the case file is empty"},
+  BadCase{"bad_flow_magnitude.yaml", 9, "boundary_conditions[0].flow",
+          "a peak of 300 m^3/s (3e+05 L/s) is no blood flow; the values are probably in mL/s: "
+          "add `units: mL/s`"},
   BadCase{"bad_malformed.yaml", 4, "", "malformed YAML"},
   BadCase{"bad_unknown_key.yaml", 8, "fluid.viscocity",
           "unknown key 'viscocity' (did you mean 'viscosity'?); allowed keys in fluid: density, "
@@ -350,6 +353,33 @@ TEST(CheckCaseAgainstMesh, UnknownFaceListsTheMeshFaces) {
     EXPECT_THAT(e.what(), HasSubstr("no face 'inlt' (did you mean 'inlet'?)"));
     EXPECT_THAT(e.what(), HasSubstr("inlet, outlet and wall"));
   }
+}
+
+TEST(CheckCaseAgainstMesh, AnImplausibleScaleNamesTheUnitThatFits) {
+  // An aorta of 30 cm in a file in cm, read as metres (the probe's case); and a 2 cm pipe in
+  // mm given as metres' thousandths twice over.
+  mesh::Mesh m = three_face_mesh();
+  m.points = {{0, 0, 0}, {30, 0, 0}, {0, 2.5, 0}, {0, 0, 2.5}};
+  try {
+    io::check_case_against_mesh(case_with_faces({"inlet", "outlet", "wall"}), m);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("the mesh test-pipe spans 30.2 m"));
+    EXPECT_THAT(e.what(), HasSubstr("probably in cm (mesh.units: cm)"));
+  }
+  io::Case in_mm = case_with_faces({"inlet", "outlet", "wall"});
+  in_mm.mesh.length_scale = 1e-3;
+  for (Vec3& x : m.points)
+    x = 1e-6 * x; // 30 um: the coordinates were in metres already
+  try {
+    io::check_case_against_mesh(in_mm, m);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("is that small; its coordinates are probably in m"));
+  }
+  for (Vec3& x : m.points)
+    x = 1e3 * x; // 3 cm: fine
+  EXPECT_NO_THROW(io::check_case_against_mesh(in_mm, m));
 }
 
 TEST(CheckCaseAgainstMesh, FaceGivenTwice) {

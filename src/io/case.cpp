@@ -331,6 +331,17 @@ BoundaryCondition read_bc(const YamlValue& v, const fs::path& case_dir) {
         v.require("flow", "the volume flow into the domain: a number (m3/s unless units "
                           "says otherwise) or a mapping with file or times/values");
     bc.flow = read_case_waveform(flow, v.get("units"), kFlow, case_dir);
+    // A human aorta's peak flow is about 0.5 L/s; 5 L/s and more is a flow in other units
+    // read as m^3/s (300 mL/s read as 300 m^3/s ended in a Newton failure at step 1).
+    double peak = std::abs(bc.flow(0.0));
+    for (int k = 1; !bc.flow.is_constant() && k < 1000; ++k)
+      peak = std::max(peak, std::abs(bc.flow(bc.flow.period() * k / 1000.0)));
+    if (peak > 5e-3)
+      flow.fail(fmt::format("a peak of {:.4g} m^3/s ({:.4g} L/s) is no blood flow; {}", peak,
+                            peak * 1e3,
+                            v.has("units") ? "check the values against the units given"
+                                           : "the values are probably in mL/s: add `units: mL/s` "
+                                             "to the boundary condition"));
     if (auto p = v.get("profile")) {
       bc.profile = read_profile(*p);
       if (bc.profile == InflowProfile::Womersley && bc.flow.is_constant())
@@ -450,8 +461,40 @@ Case load_case(const fs::path& file) {
   return c;
 }
 
+namespace {
+
+/// A vessel's model spans millimetres to a metre: a mesh in cm or mm read as metres (an
+/// aorta 30 m long) ended in a Newton failure without a hint; say which unit fits.
+void check_scale(const Case& c, const mesh::Mesh& m, const std::string& source) {
+  if (m.points.empty())
+    return;
+  Vec3 low = m.points.front(), high = m.points.front();
+  for (const Vec3& x : m.points)
+    for (int k = 0; k < 3; ++k) {
+      low[k] = std::min(low[k], x[k]);
+      high[k] = std::max(high[k], x[k]);
+    }
+  const Vec3 diagonal = high - low;
+  const double span = std::sqrt(dot(diagonal, diagonal));
+  if (span > 3.0 || span < 1e-3) {
+    std::string hint;
+    for (const auto& [unit, scale] : {std::pair{"m", 1.0}, {"cm", 1e-2}, {"mm", 1e-3}})
+      if (const double d = span / c.mesh.length_scale * scale; hint.empty() && d > 0.01 && d < 1.0)
+        hint = fmt::format("; its coordinates are probably in {} (mesh.units: {})", unit, unit);
+    input_error("{}: the mesh{} spans {:.3g} m (its bounding box's diagonal, mesh units {} m): no "
+                "blood vessel's model is that {}{}",
+                source, m.source.empty() ? "" : " " + m.source, span, c.mesh.length_scale,
+                span > 3.0 ? "large" : "small", hint);
+  }
+}
+
+} // namespace
+
 void check_case_against_mesh(const Case& c, const mesh::Mesh& m) {
   const std::string source = c.file.empty() ? fmt::format("case '{}'", c.name) : c.file.string();
+  // A vessel's model spans millimetres to a metre: a mesh in cm or mm read as metres (an
+  // aorta 30 m long) ended in a Newton failure without a hint; say which unit fits.
+  check_scale(c, m, source);
   std::vector<std::string> face_names;
   for (const mesh::Face& f : m.faces)
     face_names.push_back(f.name);
