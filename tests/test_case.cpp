@@ -382,6 +382,26 @@ TEST(CheckCaseAgainstMesh, AnImplausibleScaleNamesTheUnitThatFits) {
   EXPECT_NO_THROW(io::check_case_against_mesh(in_mm, m));
 }
 
+TEST(CheckCaseAgainstMesh, InflowIntoAClosedDomainIsRefused) {
+  // The probe's case: the outlet left without a condition, so a wall; it only warned.
+  io::Case c = case_with_faces({"inlet", "wall"});
+  c.boundary_conditions[0].type = io::BcType::Inflow;
+  c.boundary_conditions[0].flow = bc::Waveform::constant(1e-6);
+  try {
+    io::check_case_against_mesh(c, three_face_mesh());
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("pipe.yaml: boundary_conditions[0]: flow enters through "
+                                    "'inlet' but no face lets it out"));
+    EXPECT_THAT(e.what(), HasSubstr("faces without a condition are walls: outlet"));
+  }
+  io::BoundaryCondition outlet;
+  outlet.face = "outlet";
+  outlet.type = io::BcType::Resistance;
+  c.boundary_conditions.push_back(outlet);
+  EXPECT_NO_THROW(io::check_case_against_mesh(c, three_face_mesh()));
+}
+
 TEST(CheckCaseAgainstMesh, FaceGivenTwice) {
   try {
     io::check_case_against_mesh(case_with_faces({"inlet", "wall", "inlet"}), three_face_mesh());

@@ -519,6 +519,25 @@ void check_case_against_mesh(const Case& c, const mesh::Mesh& m) {
   for (const std::string& name : face_names)
     if (!used.contains(name))
       unused.push_back(name);
+  // An incompressible fluid cannot enter a closed rigid domain (Newton then failed at step
+  // 1); a compliant one stores a cycle's net volume for ever, so only a zero-mean inflow.
+  const bool open = std::any_of(
+      c.boundary_conditions.begin(), c.boundary_conditions.end(), [](const BoundaryCondition& b) {
+        return b.type == BcType::Pressure || b.type == BcType::Resistance ||
+               b.type == BcType::Windkessel;
+      });
+  for (size_t i = 0; i < c.boundary_conditions.size() && !open; ++i) {
+    const BoundaryCondition& b = c.boundary_conditions[i];
+    if (b.type == BcType::Inflow && (!is_fsi(c) || std::abs(b.flow.mean()) > 0.0))
+      input_error("{}: boundary_conditions[{}]: flow enters through '{}' but no face lets it "
+                  "out (no pressure, resistance or rcr condition{}): {}",
+                  source, i, b.face,
+                  unused.empty()
+                      ? ""
+                      : "; faces without a condition are walls: " + join_names(unused, "and"),
+                  is_fsi(c) ? "the wall would store a cycle's net inflow every cycle"
+                            : "an incompressible fluid cannot enter a closed rigid domain");
+  }
   if (!unused.empty() && !is_fsi(c)) // in FSI they are the interface and the wall's faces
     spdlog::warn("{}: mesh faces without a boundary condition are no-slip walls: {}", source,
                  join_names(unused, "and"));
