@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "bc/waveform.hpp"
@@ -285,4 +286,48 @@ TEST(Waveform, MissingFile) {
   EXPECT_NE(e.find(path), std::string::npos) << e;
   e = error_of([&] { bc::read_simvascular_flow(path, 1.0); });
   EXPECT_NE(e.find(path), std::string::npos) << e;
+}
+
+TEST(Waveform, ASplineSwingingFarBeyondItsSamplesIsRefused) {
+  // A 2 ms spike between samples 100 ms apart (the probe's inflow): the C2 spline rings
+  // through the neighbouring intervals far below zero; refused, naming where.
+  try {
+    bc::Waveform::periodic({0.0, 0.1, 0.2, 0.201, 0.202, 0.3, 0.6}, {0, 0, 0, 400, 0, 0, 0}, 1.0,
+                           "spike.csv");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), testing::HasSubstr("spike.csv: the smooth interpolation"));
+    EXPECT_THAT(e.what(), testing::HasSubstr("beyond their range 0 to 400"));
+  }
+  // The same spike sampled finely enough passes.
+  std::vector<double> t, v;
+  for (int k = 0; k < 100; ++k) {
+    t.push_back(0.01 * k);
+    v.push_back(400.0 * std::exp(-std::pow((0.01 * k - 0.2) / 0.03, 2)));
+  }
+  EXPECT_NO_THROW(bc::Waveform::periodic(t, v, 1.0, "smooth.csv"));
+}
+
+TEST(Waveform, TheStudysInflowStaysWithinItsSamples) {
+  // examples/tbad-study's inflow (mL/s), its valve closing at 0.388 s: the spline's swing
+  // beyond the samples, which the overshoot check allows up to 10 % of their range silently.
+  const std::vector<double> t = {0.0,   0.02,  0.04,  0.06,  0.08,  0.1,   0.12,  0.14,  0.16,
+                                 0.18,  0.2,   0.22,  0.24,  0.26,  0.28,  0.3,   0.32,  0.34,
+                                 0.36,  0.38,  0.388, 0.438, 0.488, 0.538, 0.588, 0.638, 0.688,
+                                 0.738, 0.788, 0.838, 0.888, 0.938, 0.988};
+  const std::vector<double> v = {0.0,    48.37,  95.48,  140.08, 181.02, 217.23, 247.75,
+                                 271.78, 288.71, 298.08, 299.65, 293.37, 279.42, 258.16,
+                                 230.14, 196.11, 156.93, 113.66, 67.4,   19.39,  0.0};
+  std::vector<double> values = v;
+  values.resize(t.size(), 0.0);
+  const bc::Waveform w = bc::Waveform::periodic(t, values, 1.0, "inflow");
+  double low = 0.0, high = 0.0;
+  for (int k = 0; k < 100000; ++k) {
+    low = std::min(low, w(k * 1e-5));
+    high = std::max(high, w(k * 1e-5));
+  }
+  const double swing = std::max(-low, high - 299.65) / 299.65;
+  std::printf("swing beyond the samples: %.2f %% of their range (low %.2f, high %.2f)\n",
+              100 * swing, low, high);
+  EXPECT_LT(swing, 0.1);
 }

@@ -31,6 +31,10 @@ public:
   Waveform scaled(double s) const;
 
 private:
+  /// InputError naming `where` when the spline swings beyond the samples' range by more than
+  /// half of it, a warning above 10 %.
+  void check_overshoot(const std::string& where) const;
+
   std::vector<double> t_, v_, m_; // knots, values, spline second derivatives
   double period_ = 0.0;
   double constant_ = 0.0;
