@@ -235,6 +235,55 @@ TEST(CliRun, StartFromAnotherMeshInterpolatesTheState) {
   EXPECT_THAT(other.output, testing::HasSubstr("differs from this case in more than the mesh"));
 }
 
+TEST(CliRun, AFullDiskStopsTheRunWithItsFramesListedAndItsCheckpointGood) {
+  // The probe's full disk: a 600 kB file system (tmpfs, where this machine lets the tests
+  // mount one) fills while frame 6 is written.
+  const fs::path disk = fresh_dir("full-disk"), moved = fresh_dir("full-disk-moved");
+  fs::create_directories(disk);
+  if (std::system(("mount -t tmpfs -o size=600k tmpfs " + disk.string() + " 2>/dev/null").c_str()))
+    GTEST_SKIP() << "cannot mount a small tmpfs here (needs root): the full-disk test is skipped";
+  struct Unmount {
+    std::string dir;
+    ~Unmount() {
+      if (std::system(("umount " + dir).c_str()) != 0)
+        ADD_FAILURE() << "could not unmount " << dir;
+    }
+  } unmount{disk.string()};
+  std::ifstream original_in(data / "runs/small_pipe.yaml");
+  std::string text((std::istreambuf_iterator<char>(original_in)), {});
+  text.replace(text.find("every: 3, checkpoint_every: 3"), 29, "every: 1, checkpoint_every: 2");
+  const fs::path file = disk.parent_path() / "full-disk.yaml";
+  std::ofstream(file) << text;
+  const Result r = run("run " + file.string() + " -q -o " + (disk / "run").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_THAT(r.output, testing::HasSubstr("No space left on device"));
+  EXPECT_THAT(r.output, testing::HasSubstr("cannot write frame"));
+  EXPECT_THAT(r.output, testing::Not(testing::HasSubstr("vtkExecutive"))); // said once
+  // flow.pvd lists every whole frame on disk and nothing else; no temporary is left.
+  std::ifstream pvd(disk / "run" / "flow.pvd");
+  const std::string listed((std::istreambuf_iterator<char>(pvd)), {});
+  size_t frames = 0;
+  for (const auto& entry : fs::directory_iterator(disk / "run")) {
+    const std::string name = entry.path().filename().string();
+    EXPECT_FALSE(name.ends_with(".tmp")) << name;
+    if (name.ends_with(".vtu")) {
+      ++frames;
+      EXPECT_THAT(listed, testing::HasSubstr(name));
+    }
+  }
+  EXPECT_GE(frames, 2u);
+  // Its checkpoint continues it elsewhere to the uninterrupted run's results.
+  fs::copy(disk / "run", moved, fs::copy_options::recursive);
+  const Result b = run("run " + file.string() + " -q --restart -o " + moved.string());
+  ASSERT_EQ(b.code, 0) << b.output;
+  const fs::path full = fresh_dir("full-disk-reference");
+  ASSERT_EQ(run("run " + file.string() + " -q -o " + full.string()).code, 0);
+  const auto ra = read_faces(full), rb = read_faces(moved);
+  ASSERT_EQ(ra.size(), rb.size());
+  for (const auto& [key, v] : ra) // same operations from the same state: round-off
+    EXPECT_NEAR(rb.at(key).first, v.first, 1e-12 * (std::abs(v.first) + 1e-9)) << key.second;
+}
+
 TEST(CliRun, TwoRanksAgreeWithOne) {
   const fs::path one = fresh_dir("one"), two = fresh_dir("two");
   const std::string args = (data / "runs/small_pipe.yaml").string() + " -q -o ";

@@ -76,7 +76,13 @@ void VtuSeries::write(int step, double time, const std::vector<PointField>& fiel
   writer->SetInputData(grid_);
   writer->SetDataModeToAppended();
   writer->SetCompressorTypeToLZ4(); // fast; ParaView reads it
-  if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
+  // A failure is reported below once, with the file and its cause; VTK's own banner (the
+  // pipeline's request dump) would only repeat it.
+  const vtkTypeBool shown = vtkObject::GetGlobalWarningDisplay();
+  vtkObject::GlobalWarningDisplayOff();
+  const int written = writer->Write();
+  vtkObject::SetGlobalWarningDisplay(shown);
+  if (written != 1 || writer->GetErrorCode() != 0) {
     const unsigned long code = writer->GetErrorCode();
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
