@@ -40,6 +40,16 @@ using namespace tearflow;
 
 namespace {
 
+/// "create directories" from std::filesystem's "filesystem error: cannot create
+/// directories: <reason> [<path>]" (its what() names the operation).
+std::string filesystem_action(const std::string& what) {
+  const std::string prefix = "filesystem error: cannot ";
+  const size_t begin = what.find(prefix), end = what.find(':', begin + prefix.size());
+  if (begin == std::string::npos || end == std::string::npos)
+    return "write";
+  return what.substr(begin + prefix.size(), end - begin - prefix.size());
+}
+
 /// The case, read by every rank from the same file: a bad case is the same error on every
 /// rank, so it is reported once and ends all ranks without MPI_Abort (issue 28, item 7).
 io::Case load_case_everywhere(const std::string& file) {
@@ -269,6 +279,12 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "error: %s\n", e.what());
     code = 3;
     all_ranks_stopped = e.collective;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A folder that cannot be made or a file that cannot be written (read-only, full):
+    // the path and the system's reason, as for the writes that check themselves.
+    std::fprintf(stderr, "error: cannot %s '%s': %s\n", filesystem_action(e.what()).c_str(),
+                 e.path1().string().c_str(), e.code().message().c_str());
+    code = 2;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "error: out of memory: the input asks for more memory than this process "
                          "could get (a mesh, element size, image size or mode count too large "

@@ -235,20 +235,29 @@ TEST(CliRun, StartFromAnotherMeshInterpolatesTheState) {
   EXPECT_THAT(other.output, testing::HasSubstr("differs from this case in more than the mesh"));
 }
 
+/// A small tmpfs mounted at `dir` while alive (the tests run as root on this machine; where
+/// they cannot mount, `mounted` is false and the test is skipped).
+struct SmallFileSystem {
+  std::string dir;
+  bool mounted = false;
+  SmallFileSystem(const fs::path& at, const std::string& options) : dir(at.string()) {
+    fs::create_directories(at);
+    mounted = std::system(
+                  ("mount -t tmpfs -o " + options + " tmpfs " + dir + " 2>/dev/null").c_str()) == 0;
+  }
+  ~SmallFileSystem() {
+    if (mounted && std::system(("umount " + dir).c_str()) != 0)
+      ADD_FAILURE() << "could not unmount " << dir;
+  }
+};
+
 TEST(CliRun, AFullDiskStopsTheRunWithItsFramesListedAndItsCheckpointGood) {
   // The probe's full disk: a 600 kB file system (tmpfs, where this machine lets the tests
   // mount one) fills while frame 6 is written.
   const fs::path disk = fresh_dir("full-disk"), moved = fresh_dir("full-disk-moved");
-  fs::create_directories(disk);
-  if (std::system(("mount -t tmpfs -o size=600k tmpfs " + disk.string() + " 2>/dev/null").c_str()))
+  const SmallFileSystem small(disk, "size=600k");
+  if (!small.mounted)
     GTEST_SKIP() << "cannot mount a small tmpfs here (needs root): the full-disk test is skipped";
-  struct Unmount {
-    std::string dir;
-    ~Unmount() {
-      if (std::system(("umount " + dir).c_str()) != 0)
-        ADD_FAILURE() << "could not unmount " << dir;
-    }
-  } unmount{disk.string()};
   std::ifstream original_in(data / "runs/small_pipe.yaml");
   std::string text((std::istreambuf_iterator<char>(original_in)), {});
   text.replace(text.find("every: 3, checkpoint_every: 3"), 29, "every: 1, checkpoint_every: 2");
@@ -282,6 +291,18 @@ TEST(CliRun, AFullDiskStopsTheRunWithItsFramesListedAndItsCheckpointGood) {
   ASSERT_EQ(ra.size(), rb.size());
   for (const auto& [key, v] : ra) // same operations from the same state: round-off
     EXPECT_NEAR(rb.at(key).first, v.first, 1e-12 * (std::abs(v.first) + 1e-9)) << key.second;
+}
+
+TEST(CliRun, AReadOnlyFolderIsAClearErrorNamingIt) {
+  const fs::path folder = fresh_dir("read-only");
+  const SmallFileSystem read_only(folder, "size=100k,ro");
+  if (!read_only.mounted)
+    GTEST_SKIP() << "cannot mount a read-only tmpfs here (needs root)";
+  const Result r = run("run " + (data / "runs/small_pipe.yaml").string() + " -q -o " +
+                       (folder / "run").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_THAT(r.output, testing::HasSubstr("error: cannot create directories '" +
+                                           (folder / "run").string() + "': Read-only file system"));
 }
 
 TEST(CliRun, TwoRanksAgreeWithOne) {
