@@ -139,6 +139,18 @@ TEST(MriVolumes, NiftiAndMetaImageRoundTrip) {
   }
 }
 
+TEST(MriVolumes, ATruncatedVolumeIsRefusedNamingIt) {
+  // The probe's truncated .nii.gz was read and failed later ("no signal at the lumen point").
+  const mri::Flow4D data = mri::synthesize_pipe(test_pipe_scan(25.0));
+  for (const std::string ext : {".nii.gz", ".nii", ".mha"}) {
+    const auto dir = fresh_dir("mri-volumes-cut");
+    mri::write_volumes(data, dir, ext);
+    const auto file = dir / ("vz" + ext);
+    std::filesystem::resize_file(file, std::filesystem::file_size(file) * 6 / 10);
+    expect_input_error([&] { mri::read_flow_data(dir); }, "'" + file.string() + "': cut short");
+  }
+}
+
 TEST(MriCommand, SynthesizeFlowCompareEndToEnd) {
   // The three subcommands chained on a small noisy oblique scan with an injected background:
   // the measured flows against the exact ones (synthesize writes them as exact/flow.csv).
