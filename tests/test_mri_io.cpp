@@ -101,6 +101,18 @@ TEST(MriDicom, BadInputSaysWhatIsExpected) {
     mri::write_dicom(data, dir, o);
     expect_input_error([&] { mri::read_dicom(dir); }, "no phase fh (z) series");
   }
+  { // a file cut short (GDCM read it, warning without the file's name) and an empty one
+    // (skipped as not DICOM, so a slice went missing): each refused, naming the file
+    const auto dir = fresh_dir("mri-dicom-cut");
+    mri::write_dicom(data, dir);
+    const auto cut = dir / "vy" / "IM_0003_0002.dcm";
+    std::filesystem::resize_file(cut, std::filesystem::file_size(cut) - 300);
+    expect_input_error([&] { mri::read_dicom(dir); }, "'" + cut.string() + "': cut short");
+    mri::write_dicom(data, dir);
+    const auto empty = dir / "vx" / "IM_0002_0001.dcm";
+    std::filesystem::resize_file(empty, 0);
+    expect_input_error([&] { mri::read_dicom(dir); }, "'" + empty.string() + "': an empty file");
+  }
   { // a series with fewer frames
     const auto dir = fresh_dir("mri-dicom-frames");
     mri::write_dicom(data, dir);

@@ -8,7 +8,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <exception>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <regex>
@@ -16,6 +19,8 @@
 
 #include <fmt/format.h>
 #include <gdcmAttribute.h>
+#include <gdcmReader.h>
+#include <gdcmTrace.h>
 #include <gdcmUIDGenerator.h>
 #include <gdcmWriter.h>
 #include <itkGDCMImageIO.h>
@@ -226,7 +231,63 @@ std::optional<double> venc_of(const itk::MetaDataDictionary& d) {
   return std::nullopt;
 }
 
+/// InputError naming the file when its pixel data is shorter than its rows, columns, frames
+/// and bits announce: GDCM reads such a file, warning "Incomplete Pixel Data found" without
+/// the file's name, and every frame's flow changed (the probe's truncated file).
+void check_pixel_data(const fs::path& file) {
+  gdcm::Reader r;
+  r.SetFileName(file.c_str());
+  if (!r.Read())
+    input_error("'{}': not a readable DICOM file", file.string());
+  const gdcm::DataSet& ds = r.GetFile().GetDataSet();
+  const auto value = [&](std::uint16_t group, std::uint16_t element, double fallback) {
+    const gdcm::Tag t(group, element);
+    if (!ds.FindDataElement(t) || ds.GetDataElement(t).IsEmpty())
+      return fallback;
+    const gdcm::ByteValue* v = ds.GetDataElement(t).GetByteValue();
+    if (v == nullptr)
+      return fallback;
+    if (t.GetElement() == 0x0008) // NumberOfFrames: an IS string
+      return number(std::string(v->GetPointer(), v->GetLength())).value_or(fallback);
+    std::uint16_t u = 0; // US
+    std::memcpy(&u, v->GetPointer(), std::min<std::size_t>(2, v->GetLength()));
+    return static_cast<double>(u);
+  };
+  const auto image = static_cast<std::uint32_t>(
+      value(0x0028, 0x0010, 0) * value(0x0028, 0x0011, 0) * value(0x0028, 0x0008, 1) *
+      value(0x0028, 0x0002, 1) * std::ceil(value(0x0028, 0x0100, 16) / 8.0));
+  if (image == 0 || r.GetFile().GetHeader().GetDataSetTransferSyntax().IsEncapsulated())
+    return; // compressed fragments: the codec checks them
+  // GDCM pads a short value to its declared length, so the bytes on disk decide: the pixel
+  // data's element (tag 7fe0,0010, little endian; explicit VR OW/OB with 12 header bytes or
+  // implicit with 8) declaring the image's length, and what follows it in the file.
+  std::ifstream in(file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const std::string tag("\xe0\x7f\x10\x00", 4);
+  for (std::size_t at = bytes.find(tag); at != std::string::npos; at = bytes.find(tag, at + 1)) {
+    const auto length_at = [&](std::size_t offset) {
+      std::uint32_t l = 0;
+      if (offset + 4 <= bytes.size())
+        std::memcpy(&l, bytes.data() + offset, 4);
+      return l;
+    };
+    const bool explicit_vr =
+        bytes.compare(at + 4, 2, "OW") == 0 || bytes.compare(at + 4, 2, "OB") == 0;
+    const std::size_t header = explicit_vr ? 12 : 8;
+    const std::uint32_t declared = length_at(at + header - 4);
+    if (declared != image + (image % 2))
+      continue;
+    const std::size_t present = bytes.size() - std::min(bytes.size(), at + header);
+    if (present < image)
+      input_error("'{}': cut short: {} bytes of pixel data where its rows, columns, frames and "
+                  "bits announce {} (a truncated copy?)",
+                  file.string(), present, image);
+    return;
+  }
+}
+
 SliceFile read_slice(const fs::path& file) {
+  check_pixel_data(file);
   auto io = itk::GDCMImageIO::New();
   io->LoadPrivateTagsOn();
   auto reader = itk::ImageFileReader<Slice>::New();
@@ -359,6 +420,13 @@ ImageGrid frame_grid(const std::vector<SliceFile*>& slices, const std::string& w
 Flow4D read_dicom(const fs::path& dir, const ReadOptions& options) {
   if (!fs::is_directory(dir))
     input_error("'{}': no such folder (a folder of 4D-flow DICOM files is expected)", dir.string());
+  // GDCM's warnings name no file ("Incomplete Pixel Data found"); what they warn of that
+  // matters is checked here and said with the file (check_pixel_data, the empty file).
+  struct QuietGdcm {
+    bool was = gdcm::Trace::GetWarningFlag();
+    QuietGdcm() { gdcm::Trace::WarningOff(); }
+    ~QuietGdcm() { gdcm::Trace::SetWarning(was); }
+  } quiet;
   std::vector<fs::path> paths;
   for (const auto& e : fs::recursive_directory_iterator(dir))
     if (e.is_regular_file())
@@ -374,6 +442,11 @@ Flow4D read_dicom(const fs::path& dir, const ReadOptions& options) {
     auto probe = itk::GDCMImageIO::New();
     for (std::size_t i = next++; i < paths.size(); i = next++) {
       try {
+        // Not DICOM: skipped (notes, DICOMDIR); but an empty file is a failed copy, whose
+        // slice would be missing from its series.
+        if (fs::file_size(paths[i]) == 0)
+          input_error("'{}': an empty file in the DICOM folder (a failed copy?)",
+                      paths[i].string());
         if (probe->CanReadFile(paths[i].string().c_str()))
           slots[i] = read_slice(paths[i]);
       } catch (...) {
