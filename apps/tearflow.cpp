@@ -10,6 +10,8 @@
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
+#include <exception>
+#include <filesystem>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -127,6 +129,59 @@ int run_command(const RunArgs& args, const std::string& cli_petsc) {
     execute(sim);
   }
   return 0;
+}
+
+/// Prints the error once (a collective one on rank 0 only) and returns the exit code: 2 bad
+/// input or an unwritable file, 3 a solver failure, 1 anything else. `collective`: every
+/// rank has the same error (none is left waiting in a collective call).
+int report_error(std::exception_ptr error, bool& collective) {
+  collective = false;
+  try {
+    std::rethrow_exception(error);
+  } catch (const InputError& e) {
+    if (!e.collective || fem::mpi_rank() == 0)
+      std::fprintf(stderr, "error: %s\n", e.what());
+    collective = e.collective;
+    return 2;
+  } catch (const SolverError& e) {
+    if (!e.collective || fem::mpi_rank() == 0)
+      std::fprintf(stderr, "error: %s\n", e.what());
+    collective = e.collective;
+    return 3;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A folder that cannot be made or a file that cannot be written (read-only, full):
+    // the path and the system's reason, as for the writes that check themselves.
+    std::fprintf(stderr, "error: cannot %s '%s': %s\n", filesystem_action(e.what()).c_str(),
+                 e.path1().string().c_str(), e.code().message().c_str());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory: the input asks for more memory than this process "
+                         "could get (a mesh, element size, image size or mode count too large "
+                         "for this machine?)\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
+
+/// A command that runs on one process: rank 0 runs it, and its exit code, an error's
+/// included, goes to every rank, so all end alike without MPI_Abort (issue 28, item 7).
+template <typename Command> int on_one_rank(const char* name, Command&& command) {
+  int code = 0;
+  if (fem::mpi_rank() == 0) {
+    if (fem::mpi_size() > 1)
+      std::fprintf(stderr, "note: `tearflow %s` runs on one process; the other %d rank(s) wait\n",
+                   name, fem::mpi_size() - 1);
+    try {
+      code = command();
+    } catch (...) {
+      bool collective = false;
+      code = report_error(std::current_exception(), collective);
+    }
+  }
+  MPI_Bcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  return code;
 }
 
 /// While alive, what the process writes to stdout goes to stderr: the progress lines that
@@ -255,44 +310,26 @@ int main(int argc, char** argv) {
       code = verify_command(verify_name, list, verify_options);
       all_ranks_stopped = true; // the same code on every rank
     }
-    if (geometry_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
-      code = geometry_command.run();
+    // Serial commands: one rank writes.
+    const bool serial = geometry_command.selected() || analyze_command.selected() ||
+                        report_command.selected() || mri_command.selected();
+    if (geometry_command.selected())
+      code = on_one_rank("geometry", [&] { return geometry_command.run(); });
     if (tune_command.selected())
       code = tune_command.run(cli_petsc);
-    if (analyze_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
-      code = analyze_command.run();
-    if (report_command.selected() && fem::mpi_rank() == 0)
-      code = report_command.run();
+    if (analyze_command.selected())
+      code = on_one_rank("analyze", [&] { return analyze_command.run(); });
+    if (report_command.selected())
+      code = on_one_rank("report", [&] { return report_command.run(); });
     if (study_command.selected())
       code = study_command.run();
-    if (mri_command.selected() && fem::mpi_rank() == 0) // serial: one rank writes
-      code = mri_command.run();
+    if (mri_command.selected())
+      code = on_one_rank("mri", [&] { return mri_command.run(); });
+    all_ranks_stopped = all_ranks_stopped || serial;
   } catch (const CLI::ParseError& e) {
     code = app.exit(e);
-  } catch (const InputError& e) {
-    if (!e.collective || fem::mpi_rank() == 0)
-      std::fprintf(stderr, "error: %s\n", e.what());
-    code = 2;
-    all_ranks_stopped = e.collective;
-  } catch (const SolverError& e) {
-    if (!e.collective || fem::mpi_rank() == 0)
-      std::fprintf(stderr, "error: %s\n", e.what());
-    code = 3;
-    all_ranks_stopped = e.collective;
-  } catch (const std::filesystem::filesystem_error& e) {
-    // A folder that cannot be made or a file that cannot be written (read-only, full):
-    // the path and the system's reason, as for the writes that check themselves.
-    std::fprintf(stderr, "error: cannot %s '%s': %s\n", filesystem_action(e.what()).c_str(),
-                 e.path1().string().c_str(), e.code().message().c_str());
-    code = 2;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "error: out of memory: the input asks for more memory than this process "
-                         "could get (a mesh, element size, image size or mode count too large "
-                         "for this machine?)\n");
-    code = 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    code = 1;
+  } catch (...) {
+    code = report_error(std::current_exception(), all_ranks_stopped);
   }
   // An error seen by one rank only would leave the others waiting in a collective call.
   if (code != 0 && !all_ranks_stopped && fem::mpi_size() > 1)

@@ -142,6 +142,20 @@ TEST(CliRun, BadCaseOnTwoRanksIsReportedOnceWithoutAbort) {
   EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
 }
 
+TEST(CliRun, AOneProcessCommandOnTwoRanksSaysSoAndFailsOnceWithoutAbort) {
+  // Issue 28: commands that run on one rank say so, and an error there ends every rank
+  // with its code (the other rank waited; it was MPI_Abort's banner).
+  const Result r = tearflow::testing::run_tearflow("analyze /nonexistent-run", "mpirun -n 2");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("`tearflow analyze` runs on one process; the other 1 rank(s)"));
+  const std::regex message("error: '/nonexistent-run'");
+  EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), message),
+                          std::sregex_iterator()),
+            1)
+      << r.output;
+  EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
+}
+
 namespace {
 
 nlohmann::json read_json(const fs::path& file) {
