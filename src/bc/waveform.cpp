@@ -136,36 +136,40 @@ Waveform Waveform::periodic(std::vector<double> t, std::vector<double> v, double
   return w;
 }
 
-void Waveform::check_overshoot(const std::string& where) const {
-  // A spline through a jump or a spike between coarse samples swings far beyond them (the
-  // probe's spike gave a periodic 0D start pressure of -56,663 mmHg): sampled between the
-  // knots, its range may exceed the samples' by 10 % of theirs (the study's inflow closing
-  // its valve: 5.9 %, tests/test_waveform.cpp); a warning above that, an error above half of it.
+Waveform::Overshoot Waveform::overshoot() const {
+  Overshoot o;
+  if (is_constant())
+    return o;
   const auto [lo, hi] = std::minmax_element(v_.begin(), v_.end());
-  const double range = *hi - *lo;
-  double low = *lo, high = *hi, t_low = t_.front(), t_high = t_.front();
-  for (size_t i = 0; i < t_.size(); ++i) {
+  o.low = *lo;
+  o.high = *hi;
+  double below = 0.0, above = 0.0;
+  for (size_t i = 0; i < t_.size(); ++i) { // sampled between the knots
     const double next = i + 1 < t_.size() ? t_[i + 1] : t_.front() + period_;
     for (int k = 1; k < 16; ++k) {
       const double t = t_[i] + (next - t_[i]) * k / 16.0, v = (*this)(t);
-      if (v < low)
-        std::tie(low, t_low) = std::pair{v, t};
-      if (v > high)
-        std::tie(high, t_high) = std::pair{v, t};
+      if (*lo - v > std::max(below, above))
+        std::tie(below, o.time, o.value) = std::tuple{*lo - v, t, v};
+      if (v - *hi > std::max(below, above))
+        std::tie(above, o.time, o.value) = std::tuple{v - *hi, t, v};
     }
   }
-  const double over = std::max(*lo - low, high - *hi);
-  if (range <= 0.0 || over <= 0.1 * range)
-    return;
-  const std::string what = fmt::format(
-      "{}: the smooth interpolation (periodic cubic spline) through the samples reaches {:.4g} "
-      "at t = {:.4g} s, beyond their range {:.4g} to {:.4g} by {:.0f} % of it (a jump or a "
-      "spike between coarse samples); sample the waveform more finely there",
-      where, *lo - low > high - *hi ? low : high, *lo - low > high - *hi ? t_low : t_high, *lo, *hi,
-      100.0 * over / range);
-  if (over > 0.5 * range)
-    input_error("{}", what);
-  spdlog::warn("{}", what);
+  o.fraction = *hi > *lo ? std::max(below, above) / (*hi - *lo) : 0.0;
+  return o;
+}
+
+void Waveform::check_overshoot(const std::string& where) const {
+  // A spline through a jump or a spike between coarse samples swings far beyond them (the
+  // probe's spike gave a periodic 0D start pressure of -56,663 mmHg without a word): beyond
+  // 10 % of the samples' range is said (the study's inflow closing its valve: 5.9 %,
+  // tests/test_waveform.cpp). A warning, not an error: a coarse waveform may be meant.
+  const Overshoot o = overshoot();
+  if (o.fraction > 0.1)
+    spdlog::warn("{}: the smooth interpolation (periodic cubic spline) through the samples "
+                 "reaches {:.4g} at t = {:.4g} s, beyond their range {:.4g} to {:.4g} by {:.0f} % "
+                 "of it (a jump or a spike between coarse samples?); sample the waveform more "
+                 "finely there if that is not meant",
+                 where, o.value, o.time, o.low, o.high, 100.0 * o.fraction);
 }
 
 double Waveform::operator()(double t) const {

@@ -27,12 +27,18 @@ public:
   /// Complex Fourier coefficients c_n, n = 0..modes-1, of the interpolant over one period:
   /// v(t) = Re( c_0 + 2 sum_{n>=1} c_n exp(i n w t) ), w = 2 pi / period.
   std::vector<std::complex<double>> fourier(int modes) const;
+  /// How far the spline swings beyond the samples' range [low, high]: the largest excess as a
+  /// fraction of that range, and the time and value where it is (0 for a constant).
+  struct Overshoot {
+    double fraction = 0.0, time = 0.0, value = 0.0, low = 0.0, high = 0.0;
+  };
+  Overshoot overshoot() const;
   /// The waveform multiplied by s (for unit conversion and sign flips).
   Waveform scaled(double s) const;
 
 private:
-  /// InputError naming `where` when the spline swings beyond the samples' range by more than
-  /// half of it, a warning above 10 %.
+  /// A warning naming `where` when the spline swings beyond the samples' range by more than
+  /// 10 % of it.
   void check_overshoot(const std::string& where) const;
 
   std::vector<double> t_, v_, m_; // knots, values, spline second derivatives
