@@ -293,6 +293,31 @@ TEST(CliRun, AFullDiskStopsTheRunWithItsFramesListedAndItsCheckpointGood) {
     EXPECT_NEAR(rb.at(key).first, v.first, 1e-12 * (std::abs(v.first) + 1e-9)) << key.second;
 }
 
+TEST(CliRun, AFailedWriteStopsTheRunKeepingWhatItWrote) {
+  // An injected write failure that needs no mount: files may not grow past 80 kB
+  // (RLIMIT_FSIZE, with its signal ignored a write fails with EFBIG as on a full disk); frame
+  // 0 (68 kB) fits, frame 1 (89 kB) does not.
+  const fs::path dir = fresh_dir("write-fails");
+  std::ifstream original_in(data / "runs/small_pipe.yaml");
+  std::string text((std::istreambuf_iterator<char>(original_in)), {});
+  text.replace(text.find("every: 3, checkpoint_every: 3"), 29, "every: 1, checkpoint_every: 2");
+  const fs::path file = dir.parent_path() / "write-fails.yaml";
+  std::ofstream(file) << text;
+  const Result r = run("run " + file.string() + " -q -o " + dir.string(),
+                       // PMIx's shared-memory store would be the first file to fail
+                       "trap '' XFSZ; PMIX_MCA_gds=hash prlimit --fsize=81920");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_THAT(r.output,
+              testing::HasSubstr("cannot write frame '" + (dir / "flow_000001.vtu").string() +
+                                 "': File too large"));
+  std::ifstream pvd(dir / "flow.pvd");
+  const std::string listed((std::istreambuf_iterator<char>(pvd)), {});
+  EXPECT_THAT(listed, testing::HasSubstr("flow_000000.vtu"));
+  EXPECT_FALSE(fs::exists(dir / "flow_000001.vtu"));
+  EXPECT_FALSE(fs::exists(dir / "flow_000001.vtu.tmp"));
+  EXPECT_EQ(read_faces(dir).size(), 2u * 3u); // steps 0 and 1, three faces
+}
+
 TEST(CliRun, AReadOnlyFolderIsAClearErrorNamingIt) {
   const fs::path folder = fresh_dir("read-only");
   const SmallFileSystem read_only(folder, "size=100k,ro");
