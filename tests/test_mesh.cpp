@@ -243,6 +243,9 @@ TEST(MeshPipe, RejectsBadSpecs) {
   expect_input_error([] { make_pipe({0.01, 0.0, 0.002}); }, {"length (0 m)", "positive"});
   expect_input_error([] { make_pipe({0.01, 0.1, std::nan("")}); }, {"must be positive"});
   expect_input_error([] { make_pipe({0.01, 0.1, 1e-5}); }, {"1e-05 m", "more than the 20 M"});
+  // Larger than the pipe (the probe's case ran without a word).
+  expect_input_error([] { make_pipe({0.005, 0.1, 0.011}); },
+                     {"element_size 0.011 m exceeds the diameter 0.01 m"});
 }
 
 TEST(MeshGmsh, RoundTripThroughMshFile) {

@@ -10,6 +10,8 @@
 #include <system_error>
 
 #include <gmsh.h>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "core/error.hpp"
 #include "mesh/gmsh_session.hpp"
@@ -31,6 +33,16 @@ void check_spec(const PipeSpec& s) {
                 s.radius, s.length, s.element_size);
   if (s.wall_thickness < 0.0 || !std::isfinite(s.wall_thickness))
     input_error("pipe: wall_thickness must be >= 0 m, got {} m", s.wall_thickness);
+  // An element above the diameter is not one across the lumen (the probe's case meshed and
+  // ran without a word); above the radius, about two across: too few for any flow.
+  if (s.element_size > 2.0 * s.radius)
+    input_error("pipe: element_size {} m exceeds the diameter {} m, not one element across the "
+                "lumen; use at most the radius, a quarter of it or less to resolve the flow",
+                s.element_size, 2.0 * s.radius);
+  if (s.element_size > s.radius)
+    spdlog::warn("pipe: element_size {} m exceeds the radius {} m: about two elements across the "
+                 "lumen, too few to resolve its flow",
+                 s.element_size, s.radius);
   const double outer = s.radius + s.wall_thickness;
   const double volume = std::numbers::pi * outer * outer * s.length;
   const double estimate = kTetsPerSizeCubed * volume / std::pow(s.element_size, 3);
