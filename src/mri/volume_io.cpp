@@ -184,15 +184,20 @@ Flow4D read_volumes(const fs::path& dir, const ReadOptions& options) {
       input_error("'{}': no {} volume; a volume folder holds magnitude, vx, vy and vz as "
                   ".nii.gz, .nii, .mha or .mhd (4D: i, j, k, frame; velocity in m/s along LPS)",
                   dir.string(), kNames[s]);
+    // The header first: a file cut short is refused before ITK reads it (MetaImage's reader
+    // would print its own anonymous complaint, NIfTI's none).
+    const itk::ImageIOBase::Pointer io = io_for(ext);
+    io->SetFileName(file.string());
     auto reader = itk::ImageFileReader<Volume>::New();
-    reader->SetImageIO(io_for(ext));
+    reader->SetImageIO(io);
     reader->SetFileName(file.string());
     try {
+      io->ReadImageInformation();
+      check_complete(file, ext, io->GetImageSizeInBytes());
       reader->Update();
     } catch (const itk::ExceptionObject& e) {
       input_error("'{}': cannot be read as a 4D image ({})", file.string(), e.GetDescription());
     }
-    check_complete(file, ext, reader->GetImageIO()->GetImageSizeInBytes());
     Volume::Pointer img = reader->GetOutput();
     if (s == 0) {
       first = file;
