@@ -47,6 +47,20 @@ std::map<std::pair<int, std::string>, std::pair<double, double>> read_faces(cons
   return rows;
 }
 
+/// tests/data/runs/small_pipe.yaml with `from` replaced by `to`, written as
+/// `<tmp>/tearflow-test-<name>.yaml`; returns its path.
+std::string small_pipe_variant(const std::string& name, const std::string& from,
+                               const std::string& to) {
+  std::ifstream in(data / "runs/small_pipe.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+  const fs::path file = fs::temp_directory_path() / ("tearflow-test-" + name + ".yaml");
+  std::ofstream(file) << text;
+  return file.string();
+}
+
 } // namespace
 
 TEST(CliRun, RestartReproducesUninterruptedRun) {
@@ -92,16 +106,9 @@ TEST(CliRun, RestartOfAChangedCaseIsRefusedNamingTheChange) {
   ASSERT_EQ(
       run("run " + (data / "runs/small_pipe_half.yaml").string() + " -q -o " + dir.string()).code,
       0);
-  std::ifstream original_in(data / "runs/small_pipe.yaml");
-  const std::string original((std::istreambuf_iterator<char>(original_in)), {});
   const auto restart = [&](const std::string& from, const std::string& to) {
-    std::string text = original;
-    const size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    text.replace(at, from.size(), to);
-    const fs::path file = dir.parent_path() / (dir.filename().string() + ".yaml");
-    std::ofstream(file) << text;
-    return run("run " + file.string() + " -q --restart -o " + dir.string());
+    return run("run " + small_pipe_variant("restart-changed", from, to) + " -q --restart -o " +
+               dir.string());
   };
   std::ifstream faces_in(dir / "faces.csv");
   const std::string faces((std::istreambuf_iterator<char>(faces_in)), {});
@@ -133,16 +140,7 @@ TEST(CliRun, StartFromACheckpointGoesOnAtItsTimeWithTheCasesStep) {
       run("run " + (data / "runs/small_pipe_half.yaml").string() + " -q -o " + half.string()).code,
       0);
   const std::string checkpoint = (half / "checkpoint.bin").string();
-  std::ifstream original_in(pipe);
-  const std::string original((std::istreambuf_iterator<char>(original_in)), {});
-  const auto variant = [&](const std::string& name, const std::string& from,
-                           const std::string& to) {
-    std::string text = original;
-    text.replace(text.find(from), from.size(), to);
-    const fs::path file = half.parent_path() / (name + ".yaml");
-    std::ofstream(file) << text;
-    return file.string();
-  };
+  const auto variant = small_pipe_variant;
 
   // The same step: the same operations on the same state as the uninterrupted run.
   const Result a = run("run " + pipe + " -q --start-from " + checkpoint + " -o " + same.string());
@@ -194,16 +192,7 @@ TEST(CliRun, StartFromAnotherMeshInterpolatesTheState) {
   const fs::path coarse = fresh_dir("interp-coarse"), fine = fresh_dir("interp-fine");
   const std::string half = (data / "runs/small_pipe_half.yaml").string();
   ASSERT_EQ(run("run " + half + " -q -o " + coarse.string()).code, 0);
-  std::ifstream original_in(data / "runs/small_pipe.yaml");
-  const std::string original((std::istreambuf_iterator<char>(original_in)), {});
-  const auto variant = [&](const std::string& name, const std::string& from,
-                           const std::string& to) {
-    std::string text = original;
-    text.replace(text.find(from), from.size(), to);
-    const fs::path file = coarse.parent_path() / (name + ".yaml");
-    std::ofstream(file) << text;
-    return file.string();
-  };
+  const auto variant = small_pipe_variant;
   const std::string finer = variant("interp-fine", "element_size: 0.0016", "element_size: 0.0012");
   const std::string start = " -q --start-from " + (coarse / "checkpoint.bin").string();
   const Result r = run("run " + finer + " --start-from " + (coarse / "checkpoint.bin").string() +
@@ -258,11 +247,8 @@ TEST(CliRun, AFullDiskStopsTheRunWithItsFramesListedAndItsCheckpointGood) {
   const SmallFileSystem small(disk, "size=600k");
   if (!small.mounted)
     GTEST_SKIP() << "cannot mount a small tmpfs here (needs root): the full-disk test is skipped";
-  std::ifstream original_in(data / "runs/small_pipe.yaml");
-  std::string text((std::istreambuf_iterator<char>(original_in)), {});
-  text.replace(text.find("every: 3, checkpoint_every: 3"), 29, "every: 1, checkpoint_every: 2");
-  const fs::path file = disk.parent_path() / "full-disk.yaml";
-  std::ofstream(file) << text;
+  const fs::path file = small_pipe_variant("full-disk", "every: 3, checkpoint_every: 3",
+                                           "every: 1, checkpoint_every: 2");
   const Result r = run("run " + file.string() + " -q -o " + (disk / "run").string());
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_THAT(r.output, testing::HasSubstr("No space left on device"));
@@ -298,11 +284,8 @@ TEST(CliRun, AFailedWriteStopsTheRunKeepingWhatItWrote) {
   // (RLIMIT_FSIZE, with its signal ignored a write fails with EFBIG as on a full disk); frame
   // 0 (68 kB) fits, frame 1 (89 kB) does not.
   const fs::path dir = fresh_dir("write-fails");
-  std::ifstream original_in(data / "runs/small_pipe.yaml");
-  std::string text((std::istreambuf_iterator<char>(original_in)), {});
-  text.replace(text.find("every: 3, checkpoint_every: 3"), 29, "every: 1, checkpoint_every: 2");
-  const fs::path file = dir.parent_path() / "write-fails.yaml";
-  std::ofstream(file) << text;
+  const fs::path file = small_pipe_variant("write-fails", "every: 3, checkpoint_every: 3",
+                                           "every: 1, checkpoint_every: 2");
   const Result r = run("run " + file.string() + " -q -o " + dir.string(),
                        // PMIx's shared-memory store would be the first file to fail
                        "trap '' XFSZ; PMIX_MCA_gds=hash prlimit --fsize=81920");
