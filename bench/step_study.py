@@ -83,8 +83,10 @@ def main():
                 cmd = ["mpirun", "-n", str(a.ranks)] + cmd
             with open(directory + ".log", "w") as log:
                 subprocess.run(cmd, check=True, stdout=log, stderr=subprocess.STDOUT, env=ENV)
-        subprocess.run([BIN, "analyze", directory, "--case", case], check=True,
-                       capture_output=True)
+        mesh = re.search(r"mesh: \{file: ([^,]*),", text).group(1)
+        landmarks = os.path.join(os.path.dirname(mesh), "landmarks.json")
+        subprocess.run([BIN, "analyze", directory, "--case", case, "--landmarks", landmarks],
+                       check=True, capture_output=True)
         with open(os.path.join(directory, "analysis", "metrics.json")) as f:
             results[ms] = metrics(json.load(f))
     finest = min(results)

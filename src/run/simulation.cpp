@@ -498,12 +498,12 @@ RunSummary Simulation::run(const RunOptions& options) {
   }
   write_record();
   if (case_.time.periodicity_tolerance > 0.0 && !periodic && root)
-    spdlog::warn("not periodic within {} after {} cycles (last change {:.3g}); raise "
+    spdlog::warn("not periodic within {} after {} cycle(s) ({}); raise "
                  "time.periodicity.max_cycles to continue with --restart",
                  case_.time.periodicity_tolerance, record.cycles().size(),
                  record.cycles().empty() || !record.cycles().back().change
-                     ? 0.0
-                     : *record.cycles().back().change);
+                     ? std::string("no two complete cycles to compare")
+                     : fmt::format("last change {:.3g}", *record.cycles().back().change));
   summary.wall_seconds = MPI_Wtime() - start;
   summary.periodic = periodic;
   summary.cycles = record.cycles();
