@@ -75,6 +75,13 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& ne
   // user set nothing, so any PETSc option wins.
   fem::set_default_options(Problem::default_solver_options());
   TF_PETSC(SNESSetFromOptions(snes_));
+  // The preconditioner's lag is counted by preconditioner_due(); SNES only carries it out.
+  TF_PETSC(SNESGetLagPreconditioner(snes_, &preconditioner_lag_));
+  PetscBool persists = PETSC_FALSE;
+  TF_PETSC(PetscOptionsGetBool(nullptr, Problem::options_prefix,
+                               "-snes_lag_preconditioner_persists", &persists, nullptr));
+  lag_persists_ = persists;
+  TF_PETSC(SNESSetLagPreconditioner(snes_, -1));
   if constexpr (requires(Problem & p, KSP k) { p.attach_preconditioner(k); })
     problem.attach_preconditioner(ksp);
   TF_PETSC(SNESSetConvergenceHistory(snes_, residual_history_.data(), nullptr,
@@ -100,11 +107,21 @@ PetscErrorCode NewtonStepper<Problem>::form_residual(SNES, Vec U, Vec R, void* c
   return err;
 }
 
+template <typename Problem> bool NewtonStepper<Problem>::preconditioner_due() {
+  const bool due = rebuild_preconditioner_ ||
+                   (preconditioner_lag_ > 0 && jacobians_since_rebuild_ >= preconditioner_lag_);
+  rebuild_preconditioner_ = false;
+  jacobians_since_rebuild_ = due ? 1 : jacobians_since_rebuild_ + 1;
+  return due;
+}
+
 template <typename Problem>
-PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES, Vec U, Mat A, Mat P, void* ctx) {
+PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES snes, Vec U, Mat A, Mat P, void* ctx) {
   auto* self = static_cast<NewtonStepper*>(ctx);
   const double t0 = MPI_Wtime();
   const PetscErrorCode err = self->callback_error_.guard([&] {
+    // SNES decides on the preconditioner after this callback: -2 rebuilds it once.
+    TF_PETSC(SNESSetLagPreconditioner(snes, self->preconditioner_due() ? -2 : -1));
     self->problem_.jacobian(U, P);
     // The operator, where it is not P: the shell adding the coupled outlets, or PETSc's
     // finite-difference one (-snes_mf_operator), which takes its base point here.
@@ -138,11 +155,11 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   TF_PETSC(VecCopy(U_, U_prev_));
   problem_.apply_dirichlet(U_);
 
+  if (!lag_persists_)
+    rebuild_preconditioner_ = true;
   PetscErrorCode err = SNESSolve(snes_, nullptr, U_);
   SNESConvergedReason reason;
   SNESGetConvergedReason(snes_, &reason);
-  PetscInt lag = 1;
-  TF_PETSC(SNESGetLagPreconditioner(snes_, &lag));
   // Solves the step again from U_n with a freshly built preconditioner; the failed attempt's
   // iterations still count in the report (they were spent).
   int spent_its = 0, spent_lits = 0;
@@ -152,14 +169,13 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
     spent_lits += failed.linear_iterations;
     TF_PETSC(VecCopy(U_prev_, U_));
     problem_.apply_dirichlet(U_);
-    TF_PETSC(SNESSetLagPreconditioner(snes_, -2)); // rebuild at the next Jacobian
+    rebuild_preconditioner_ = true;
     err = SNESSolve(snes_, nullptr, U_);
-    TF_PETSC(SNESSetLagPreconditioner(snes_, lag));
     SNESGetConvergedReason(snes_, &reason);
   };
   // A preconditioner lagged from earlier iterations can be too stale for a sudden change
   // (a valve-like flow reversal): retry the step once with a freshly built one.
-  if (err == 0 && reason == SNES_DIVERGED_LINEAR_SOLVE && lag != 1) {
+  if (err == 0 && reason == SNES_DIVERGED_LINEAR_SOLVE && preconditioner_lag_ != 1) {
     spdlog::info("step t = {:.6g} s: linear solve failed with the lagged preconditioner; "
                  "retrying with a new one",
                  t + dt);

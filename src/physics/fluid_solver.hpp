@@ -34,10 +34,19 @@ public:
   bool uses_exact_operator() const;
   void use_exact_operator();
 
+  /// The next step builds its preconditioner afresh and counts its lag from there, as a run
+  /// restarted at this point does: called where a checkpoint is written, so that a restart
+  /// repeats the uninterrupted run bit for bit.
+  void rebuild_preconditioner_next() { rebuild_preconditioner_ = true; }
+
 private:
   static PetscErrorCode form_residual(SNES, Vec U, Vec R, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec U, Mat J, Mat P, void* ctx);
   static PetscErrorCode shell_mult(Mat J, Vec x, Vec y);
+  /// Whether this Jacobian rebuilds the preconditioner (the lag of
+  /// -<prefix>snes_lag_preconditioner, counted here rather than by SNES so that its count
+  /// can restart with the run; see rebuild_preconditioner_next).
+  bool preconditioner_due();
 
   Problem& problem_;
   fem::OwnedVec U_, Udot_, U_prev_, R_;
@@ -46,6 +55,10 @@ private:
   fem::OwnedSNES snes_;
   double assembly_seconds_ = 0.0;
   CallbackError callback_error_;
+  PetscInt preconditioner_lag_ = 1; ///< rebuilt every this many Jacobians; < 0: only when due
+  bool lag_persists_ = false;       ///< the count goes on across steps
+  bool rebuild_preconditioner_ = true;
+  PetscInt jacobians_since_rebuild_ = 0;
   std::array<PetscReal, 64> residual_history_{}; ///< ||R|| per Newton iteration, from SNES
 };
 

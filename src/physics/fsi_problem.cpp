@@ -89,10 +89,18 @@ void FsiProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
   dofs_.global_to_local(U_n, Un_loc_);
   dofs_.global_to_local(Udot_n, An_loc_);
   dofs_.global_to_local(D_, Dn_loc_);
-  // The fluid's lagged stabilization is computed on the configuration at t_n with w = 0:
-  // a function of the state alone, so a restarted run repeats the uninterrupted one.
-  if (moving_mesh_)
+  // The fluid's lagged stabilization is computed on the configuration at t_n with w = 0,
+  // and the mesh motion's first solve starts from d_n: functions of the state alone, so a
+  // restarted run repeats the uninterrupted one.
+  if (moving_mesh_) {
     place_fluid(Dn_loc_);
+    fem::ReadArray d(Dn_loc_);
+    std::vector<Vec3> guess(static_cast<size_t>(dmesh_.num_local()));
+    for (Index l = 0; l < dmesh_.num_local(); ++l)
+      for (int c = 0; c < 3; ++c)
+        guess[l][c] = d[block * l + c];
+    mesh_.start_from(guess);
+  }
   fluid_.begin_step(t_n, dt, U_n, Udot_n);
   wall_.begin_step(t_n, dt, U_n, D_, Udot_n);
 }

@@ -129,6 +129,14 @@ MeshMotion::MeshMotion(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
   TF_PETSC(KSPSetFromOptions(ksp_));
 }
 
+void MeshMotion::start_from(const std::vector<Vec3>& d) {
+  fem::WriteArray guess(d_);
+  for (Index l = 0; l < dmesh_.num_owned(); ++l)
+    if (role_[l] == Role::Free)
+      for (int c = 0; c < 3; ++c)
+        guess[3 * l + c] = d[l][c];
+}
+
 void MeshMotion::solve(const std::vector<Vec3>& wall, std::vector<Vec3>& out) {
   {
     fem::WriteArray lift(lift_);

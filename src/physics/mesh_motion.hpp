@@ -13,7 +13,7 @@
 // values into the right-hand side:  A_free d = -A_0 d_D.
 //
 // Solver: CG with BoomerAMG (PETSc options prefix `mesh_`), started from the previous
-// solution.
+// solution or from the one set by start_from.
 #include <vector>
 
 #include "fem/dof_map.hpp"
@@ -33,6 +33,11 @@ public:
   /// boundary, the pseudo-solid's solution elsewhere. `wall` and `out` hold one Vec3 per
   /// local node (owned then ghosts); `out` may alias `wall`. Collective.
   void solve(const std::vector<Vec3>& wall, std::vector<Vec3>& out);
+
+  /// The next solve starts from this displacement (one Vec3 per local node; only the free
+  /// nodes' values are used): the state's own, so that a run restarted from a checkpoint
+  /// starts its solves where the uninterrupted run does.
+  void start_from(const std::vector<Vec3>& d);
 
   int last_iterations() const { return iterations_; }
 

@@ -74,9 +74,11 @@ std::string RunRecord::csv_rows(const StepSample& s) {
   std::string text;
   for (const FaceSample& f : s.faces) {
     const physics::FaceMeasure& m = f.measure;
-    text += fmt::format("{},{:.10g},{},{:.10e},{:.10e},{:.10e},{:.10e},{}\n", s.step, s.time,
-                        m.face, m.flow, m.pressure, m.area, m.reversed,
-                        f.distal_pressure ? fmt::format("{:.10e}", *f.distal_pressure) : "");
+    // Shortest round-trip text: a restart reads back the very numbers the run held, so its
+    // cycle statistics and periodicity test repeat the uninterrupted run's.
+    text +=
+        fmt::format("{},{},{},{},{},{},{},{}\n", s.step, s.time, m.face, m.flow, m.pressure, m.area,
+                    m.reversed, f.distal_pressure ? fmt::format("{}", *f.distal_pressure) : "");
   }
   return text;
 }

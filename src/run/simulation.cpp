@@ -436,6 +436,8 @@ RunSummary Simulation::run(const RunOptions& options) {
     c.exact_operator = fsi_ ? fsi_solver_->uses_exact_operator() : solver_->uses_exact_operator();
     if (root)
       io::write_checkpoint(checkpoint_file, c);
+    // A restart from here builds its preconditioner afresh: so does the run going on.
+    fsi_ ? fsi_solver_->rebuild_preconditioner_next() : solver_->rebuild_preconditioner_next();
   };
 
   RunSummary summary;
