@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -327,7 +328,10 @@ int main(int argc, char** argv) {
       code = on_one_rank("mri", [&] { return mri_command.run(); });
     all_ranks_stopped = all_ranks_stopped || serial;
   } catch (const CLI::ParseError& e) {
-    code = app.exit(e);
+    // Every rank parsed the same arguments: the same error (or --help) on each, said once.
+    std::ostringstream quiet;
+    code = fem::mpi_rank() == 0 ? app.exit(e) : app.exit(e, quiet, quiet);
+    all_ranks_stopped = true;
   } catch (...) {
     code = report_error(std::current_exception(), all_ranks_stopped);
   }

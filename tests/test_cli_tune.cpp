@@ -140,6 +140,16 @@ TEST(CliRun, BadCaseOnTwoRanksIsReportedOnceWithoutAbort) {
             1)
       << r.output;
   EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
+
+  // An unknown option: the command line, the same on every rank, is refused once too.
+  const Result option = tearflow::testing::run_tearflow("run --no-such-option", "mpirun -n 2");
+  EXPECT_NE(option.code, 0) << option.output;
+  const std::regex unknown("not expected: --no-such-option");
+  EXPECT_EQ(std::distance(std::sregex_iterator(option.output.begin(), option.output.end(), unknown),
+                          std::sregex_iterator()),
+            1)
+      << option.output;
+  EXPECT_THAT(option.output, testing::Not(HasSubstr("MPI_ABORT")));
 }
 
 TEST(CliRun, AOneProcessCommandOnTwoRanksSaysSoAndFailsOnceWithoutAbort) {
