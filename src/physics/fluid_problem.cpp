@@ -335,6 +335,45 @@ void FluidProblem::jacobian(Vec U, Mat J) {
                        1.0, nullptr, nullptr));
 }
 
+void FluidProblem::set_mesh_sensitivity(MeshSensitivity m) {
+  sensitivity_ = std::move(m);
+  interface_mask_.assign(geometry_.size(), 0);
+  if (sensitivity_.follows.empty())
+    return;
+  const auto& tets = dmesh_.tets();
+  for (size_t e : elements_)
+    for (int a = 0; a < 4; ++a)
+      if (sensitivity_.follows[tets[e][a]])
+        interface_mask_[e] |= static_cast<std::uint8_t>(1u << a);
+}
+
+void FluidProblem::add_interface_motion(const Tet& t, unsigned mask, const fem::TetGeometry& geo,
+                                        const FluidElementState& s, const Stabilization& stab,
+                                        ElementMatrix& K) const {
+  // dR/du_cj += dR/dx_cj dx_du + dR/dw_cj dw_du, by one forward difference per moving dof:
+  // the node moved by 1e-7 of the element's size (sqrt of the round-off, so that the
+  // difference's truncation and cancellation errors are both ~1e-7 relative).
+  ElementVector R0, R1;
+  navier_stokes_residual(geo, s, stab, fluid_, R0);
+  const double du = 1e-7 * std::cbrt(std::abs(geo.volume)) / sensitivity_.dx_du;
+  std::array<Vec3, 4> x{x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]};
+  FluidElementState moved = s;
+  for (int c = 0; c < 4; ++c) {
+    if (!((mask >> c) & 1u))
+      continue;
+    for (int j = 0; j < 3; ++j) {
+      const double x0 = x[c][j], w0 = moved.w[c][j];
+      x[c][j] += sensitivity_.dx_du * du;
+      moved.w[c][j] += sensitivity_.dw_du * du;
+      navier_stokes_residual(fem::tet_geometry(x), moved, stab, fluid_, R1);
+      x[c][j] = x0;
+      moved.w[c][j] = w0;
+      for (int r = 0; r < 16; ++r)
+        K[r][4 * c + j] += (R1[r] - R0[r]) / du;
+    }
+  }
+}
+
 void FluidProblem::add_jacobian(Vec U, Mat J) {
   stage(U);
   const double c_u = scheme_.c_u(), c_a = scheme_.c_a(dt_);
@@ -346,6 +385,8 @@ void FluidProblem::add_jacobian(Vec U, Mat J) {
   for (size_t e : elements_) {
     gather(tets[e], s);
     navier_stokes_jacobian(geometry_[e], s, stab_[e], fluid_, c_u, c_a, K);
+    if (!interface_mask_.empty() && interface_mask_[e])
+      add_interface_motion(tets[e], interface_mask_[e], geometry_[e], s, stab_[e], K);
     if (B_ == 4) {
       inserter_.add(e, &K[0][0]);
     } else {

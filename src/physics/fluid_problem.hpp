@@ -69,6 +69,17 @@ public:
   /// Puts the fluid on the configuration x (per local node, [m]) moving with velocity w
   /// [m/s]: element geometry, outlet normals and the convective velocity u - w follow.
   void move_mesh(const std::vector<Vec3>& x, const std::vector<Vec3>& w);
+  /// ALE: the nodes whose position follows their own velocity unknown during a step (in
+  /// FSI the wall's nodes, by its Newmark update): x_a moves by dx_du and the mesh velocity
+  /// w_a by dw_du per unit of u_a (per local node; empty: none). add_jacobian then adds each
+  /// element's dependence on them, the shape derivatives of the interface; the mesh inside
+  /// the fluid is held (its motion is a separate solve).
+  struct MeshSensitivity {
+    std::vector<std::uint8_t> follows; ///< per local node
+    double dx_du = 0.0;                ///< [s]
+    double dw_du = 0.0;                ///< [-]
+  };
+  void set_mesh_sensitivity(MeshSensitivity m);
   /// y += sum over resistance outlets of R_out c_u v (v . x).
   void add_coupled_outlets(Vec x, Vec y) const;
   /// Udot_{n+1} from U_{n+1} (generalized-alpha update); overwrites Udot.
@@ -108,6 +119,11 @@ private:
   void stage(Vec U); ///< local U -> u_af, udot_am, p per local node
   /// The staged nodal values of one tet's nodes.
   void gather(const Tet& t, FluidElementState& s) const;
+  /// K += the element residual's derivative through the motion of its following nodes
+  /// (mask: bit a for node a), by forward differences of the residual kernel.
+  void add_interface_motion(const Tet& t, unsigned mask, const fem::TetGeometry& geo,
+                            const FluidElementState& s, const Stabilization& stab,
+                            ElementMatrix& K) const;
   void update_outlet_fluxes();   ///< Q of every outlet from u_af (collective)
   void compute_outlet_vectors(); ///< v_ai = int N_a n_i on the current configuration
   double outlet_pressure(const OutletData& o) const;
@@ -130,8 +146,10 @@ private:
   std::vector<Vec3> x_, w_;                ///< configuration and mesh velocity per local node
   std::vector<fem::TetGeometry> geometry_; ///< per local tet, on x_
   std::vector<Stabilization> stab_;        ///< per local tet, from U_n
-  std::vector<std::uint8_t> dirichlet_;    ///< per local node: bit c set if u_c is prescribed
-  std::vector<PetscInt> dirichlet_rows_;   ///< global rows of the owned prescribed dofs
+  MeshSensitivity sensitivity_;
+  std::vector<std::uint8_t> interface_mask_; ///< per local tet: its following nodes (bits)
+  std::vector<std::uint8_t> dirichlet_;      ///< per local node: bit c set if u_c is prescribed
+  std::vector<PetscInt> dirichlet_rows_;     ///< global rows of the owned prescribed dofs
   struct InflowNode {
     Index local;
     size_t inflow, k;

@@ -2,11 +2,15 @@
 
 #include "physics/fsi_problem.hpp"
 
+#include <algorithm>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include "core/error.hpp"
 
 namespace tearflow::physics {
 
@@ -29,7 +33,7 @@ fem::OptionList FluidProblem::default_solver_options() {
 
 template <typename Problem>
 NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& newton)
-    : problem_(problem) {
+    : problem_(problem), newton_(newton) {
   const fem::DofMap& dofs = problem.dofs();
   U_ = dofs.create_global();
   Udot_ = dofs.create_global();
@@ -77,6 +81,15 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& ne
   TF_PETSC(SNESSetFromOptions(snes_));
   // The preconditioner's lag is counted by preconditioner_due(); SNES only carries it out.
   TF_PETSC(SNESGetLagPreconditioner(snes_, &preconditioner_lag_));
+  // Newton's first guess: -<prefix>predictor constant (U_n) or acceleration (U_n + dt dU/dt_n).
+  char predictor[32] = "constant";
+  TF_PETSC(PetscOptionsGetString(nullptr, Problem::options_prefix, "-predictor", predictor,
+                                 sizeof predictor, nullptr));
+  if (std::string(predictor) == "acceleration")
+    predictor_ = Predictor::acceleration;
+  else if (std::string(predictor) != "constant")
+    collective_input_error("-{}predictor {}: expected constant or acceleration",
+                           Problem::options_prefix, predictor);
   PetscBool persists = PETSC_FALSE;
   TF_PETSC(PetscOptionsGetBool(nullptr, Problem::options_prefix,
                                "-snes_lag_preconditioner_persists", &persists, nullptr));
@@ -154,6 +167,17 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   problem_.begin_step(t, dt, U_, Udot_);
   TF_PETSC(VecCopy(U_, U_prev_));
   problem_.apply_dirichlet(U_);
+  if (predictor_ == Predictor::acceleration) {
+    // Newton's tolerance stays relative to the residual of the constant predictor U_n, so
+    // that a better first guess buys iterations, not a stricter test.
+    problem_.residual(U_, R_);
+    PetscReal reference = 0.0;
+    TF_PETSC(VecNorm(R_, NORM_2, &reference));
+    TF_PETSC(SNESSetTolerances(snes_, std::max(newton_.atol, newton_.rtol * reference),
+                               newton_.rtol, 0.0, newton_.max_iterations, -1));
+    TF_PETSC(VecAXPY(U_, dt, Udot_)); // u_n + dt du/dt_n; the pressure's slots hold 0
+    problem_.apply_dirichlet(U_);
+  }
 
   if (!lag_persists_)
     rebuild_preconditioner_ = true;
@@ -181,7 +205,8 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
                  t + dt);
     solve_again();
   }
-  // A quasi-Newton Jacobian (FSI without shape derivatives) can stall in a large step where
+  // An approximate Jacobian (FSI: the mesh inside the fluid held, or with
+  // -fsi_interface_shape_derivatives false the interface too) can stall in a large step where
   // the wall moves much: retry with the exact operator, the residual differenced along each
   // Krylov direction (PETSc's -snes_mf_operator), preconditioned as before, and keep it for
   // the rest of the run (the steps after such a step stall alike). Measured on the
@@ -190,7 +215,7 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   // not the default (docs/performance.md).
   if constexpr (requires(const Problem& p) { p.jacobian_is_approximate(); }) {
     if (err == 0 && reason < 0 && problem_.jacobian_is_approximate() && !uses_exact_operator()) {
-      spdlog::warn("step t = {:.6g} s: Newton without the shape derivatives failed ({}); "
+      spdlog::warn("step t = {:.6g} s: Newton with the approximate Jacobian failed ({}); "
                    "retrying, and going on, with the exact operator by finite differences",
                    t + dt, SNESConvergedReasons[reason]);
       use_exact_operator();

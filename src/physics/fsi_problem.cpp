@@ -42,6 +42,17 @@ FsiProblem::FsiProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
   identity_rows_.erase(std::unique(identity_rows_.begin(), identity_rows_.end()),
                        identity_rows_.end());
 
+  // The interface's shape derivatives in the Jacobian (fsi_problem.hpp), unless
+  // -fsi_interface_shape_derivatives false.
+  PetscBool shape_derivatives = PETSC_TRUE;
+  TF_PETSC(PetscOptionsGetBool(nullptr, options_prefix, "-interface_shape_derivatives",
+                               &shape_derivatives, nullptr));
+  if (moving_mesh_ && shape_derivatives) {
+    follows_wall_.resize(static_cast<size_t>(dmesh.num_local()));
+    for (Index l = 0; l < dmesh.num_local(); ++l)
+      follows_wall_[l] = mesh_.follows_wall(l);
+  }
+
   D_ = dofs_.create_global();
   U_loc_ = dofs_.create_local();
   R_loc_ = dofs_.create_local();
@@ -103,6 +114,9 @@ void FsiProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
   }
   fluid_.begin_step(t_n, dt, U_n, Udot_n);
   wall_.begin_step(t_n, dt, U_n, D_, Udot_n);
+  if (!follows_wall_.empty()) // Newmark: d_{n+1} moves by beta dt / gamma per unit of v_{n+1}
+    fluid_.set_mesh_sensitivity(
+        {follows_wall_, wall_scheme_.c_u(dt), wall_scheme_.beta / wall_scheme_.gamma});
 }
 
 void FsiProblem::place_fluid(Vec D_loc) {

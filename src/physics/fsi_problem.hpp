@@ -16,10 +16,17 @@
 // d_n) with mesh velocity w = (d_{n+1} - d_n) / dt, where d_{n+1} is the wall's Newmark
 // displacement on wall nodes and the pseudo-solid's solution (mesh_motion.hpp) inside the
 // fluid. The mesh is moved at every residual evaluation, so the converged state satisfies
-// the full nonlinear system; the Jacobian leaves out the shape derivatives (the fluid's
-// dependence on the mesh position), a quasi-Newton method as in svFSI, which converges in a
-// few more iterations when the wall moves little per step. Where it stalls, the Newton
-// stepper falls back to the exact operator by finite differences (fluid_solver.cpp).
+// the full nonlinear system. The Jacobian holds the fluid's dependence on the motion of the
+// interface's nodes (their position x = X + d_n + alpha_f (d_{n+1} - d_n) and mesh velocity
+// w, both moving with the wall's velocity through Newmark: dx/dv = alpha_f beta dt / gamma,
+// dw/dv = beta / gamma), differenced element by element (FluidProblem::set_mesh_sensitivity);
+// it leaves out the response of the mesh inside the fluid (the pseudo-solid solve), whose
+// nodes the Jacobian holds fixed. Without the interface's part (svFSI's quasi-Newton method,
+// -fsi_interface_shape_derivatives false) Newton contracts linearly at about beta / gamma =
+// 0.5 per iteration near the solution, the factor the interface's convective velocity u - w
+// keeps from the missing dw/dv; with it, at the linear solve's tolerance (measured in
+// docs/performance.md). Where Newton stalls anyway, the stepper falls back to the exact
+// operator by finite differences (fluid_solver.cpp).
 #include <memory>
 #include <vector>
 
@@ -106,6 +113,7 @@ private:
   std::vector<PetscInt> unused_rows_;   ///< owned pressure slots of the other physics' nodes
   fem::OwnedVec D_, U_loc_, R_loc_, Un_loc_, An_loc_, Dn_loc_;
   std::vector<Vec3> d_next_; ///< d_{n+1} per local node, from the last move_fluid_mesh
+  std::vector<std::uint8_t> follows_wall_; ///< per local node; empty: no shape derivatives
   std::unique_ptr<FsiPreconditioner> preconditioner_;
 };
 
