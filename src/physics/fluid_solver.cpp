@@ -2,15 +2,12 @@
 
 #include "physics/fsi_problem.hpp"
 
-#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-
-#include "core/error.hpp"
 
 namespace tearflow::physics {
 
@@ -33,7 +30,7 @@ fem::OptionList FluidProblem::default_solver_options() {
 
 template <typename Problem>
 NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& newton)
-    : problem_(problem), newton_(newton) {
+    : problem_(problem) {
   const fem::DofMap& dofs = problem.dofs();
   U_ = dofs.create_global();
   Udot_ = dofs.create_global();
@@ -81,15 +78,6 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& ne
   TF_PETSC(SNESSetFromOptions(snes_));
   // The preconditioner's lag is counted by preconditioner_due(); SNES only carries it out.
   TF_PETSC(SNESGetLagPreconditioner(snes_, &preconditioner_lag_));
-  // Newton's first guess: -<prefix>predictor constant (U_n) or acceleration (U_n + dt dU/dt_n).
-  char predictor[32] = "constant";
-  TF_PETSC(PetscOptionsGetString(nullptr, Problem::options_prefix, "-predictor", predictor,
-                                 sizeof predictor, nullptr));
-  if (std::string(predictor) == "acceleration")
-    predictor_ = Predictor::acceleration;
-  else if (std::string(predictor) != "constant")
-    collective_input_error("-{}predictor {}: expected constant or acceleration",
-                           Problem::options_prefix, predictor);
   PetscBool persists = PETSC_FALSE;
   TF_PETSC(PetscOptionsGetBool(nullptr, Problem::options_prefix,
                                "-snes_lag_preconditioner_persists", &persists, nullptr));
@@ -167,18 +155,6 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   problem_.begin_step(t, dt, U_, Udot_);
   TF_PETSC(VecCopy(U_, U_prev_));
   problem_.apply_dirichlet(U_);
-  if (predictor_ == Predictor::acceleration) {
-    // Newton's tolerance stays relative to the residual of the constant predictor U_n, so
-    // that a better first guess buys iterations, not a stricter test.
-    problem_.residual(U_, R_);
-    PetscReal reference = 0.0;
-    TF_PETSC(VecNorm(R_, NORM_2, &reference));
-    TF_PETSC(SNESSetTolerances(snes_, std::max(newton_.atol, newton_.rtol * reference),
-                               newton_.rtol, 0.0, newton_.max_iterations, -1));
-    TF_PETSC(VecAXPY(U_, dt, Udot_)); // u_n + dt du/dt_n; the pressure's slots hold 0
-    problem_.apply_dirichlet(U_);
-  }
-
   if (!lag_persists_)
     rebuild_preconditioner_ = true;
   PetscErrorCode err = SNESSolve(snes_, nullptr, U_);

@@ -49,8 +49,6 @@ private:
   bool preconditioner_due();
 
   Problem& problem_;
-  io::NewtonSpec newton_;
-  enum class Predictor { constant, acceleration } predictor_ = Predictor::constant;
   fem::OwnedVec U_, Udot_, U_prev_, R_;
   fem::OwnedMat P_, J_;
   fem::OwnedMat exact_operator_; ///< finite-difference operator, once a step needed it
