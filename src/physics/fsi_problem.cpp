@@ -71,23 +71,19 @@ fem::OptionList FsiProblem::default_solver_options() {
   // iterations but its factorization grew to 14 s per step at 35 k tets (fill of the long
   // tube).
   //
-  // Inexact Newton: the Jacobian leaves out the shape derivatives, so Newton contracts the
-  // residual by only ~0.02-0.05 per iteration; solving each linear system to 1e-2 instead of
-  // 1e-4 costs no extra Newton iterations, and the lower-triangular Schur factorization
-  // saves one V-cycle per Krylov iteration for a few more iterations. Measured (CPU seconds,
-  // same steps, 1 rank): the 4.5 mm dissection (121 k tets, dt 5 ms, 2 steps) 63.8 -> 31.5 s,
-  // Krylov iterations 389 -> 203, Newton 10 -> 11; pipe-fsi (4 steps) 62.2 -> 43.4 s, Krylov
-  // 100 -> 57, Newton 12 -> 13.
+  // Linear solves to 1e-4: with the interface's shape derivatives the Jacobian is Newton's
+  // own (the interior mesh held), so an accurate direction is worth its Krylov iterations;
+  // to 1e-2 the left-preconditioned solves alternated good and poor Newton steps. Measured,
+  // 4.5 mm dissection from its periodic state, dt 5 ms, Newton to 1e-6, 12 steps, 1 rank
+  // (Newton / Krylov / CPU s): ksp_rtol 1e-2 82 / 870 / 114, 1e-3 60 / 883 / 107, 1e-4
+  // 48 / 930 / 107, 1e-6 44 / 1242 / 130. At the study's 1 mm, where a Newton iteration
+  // (residual and Jacobian, about 15 s on 1 rank) costs ten Krylov iterations, 1e-2 took
+  // 5-6 Newton and 70-85 Krylov per step, 1e-4 3 and 63 (docs/performance.md, issue 23).
   //
-  // Full Newton steps (basic line search): the missing shape derivatives make single steps
-  // raise ||R|| now and then, and the next one falls far below (e.g. 1.3e-6 -> 4.2e-6 ->
-  // 4.7e-8). Backtracking refuses such a step and then stalls on the same direction: with
-  // this split, bt stalled the 4.5 mm dissection at 1.28e-6 in step 1, and the 2 mm one
-  // (also with right preconditioning) failed its line search; full steps converge at 4.5, 3
-  // and 2 mm (docs/performance.md). Large steps (8 mm, dt 20 ms) stall near the tolerance in
-  // step 6 with either search (the previous split with bt reached step 21): the shape
-  // derivatives are their fix.
-  fem::OptionList options = {{"-fsi_ksp_rtol", "1e-2"},
+  // Full Newton steps (basic line search): before the shape derivatives, single steps raised
+  // ||R|| now and then and backtracking stalled on the same direction (the 4.5 mm dissection
+  // at 1.28e-6 in step 1; the 2 mm one failed its line search).
+  fem::OptionList options = {{"-fsi_ksp_rtol", "1e-4"},
                              {"-fsi_snes_lag_preconditioner", "10"},
                              {"-fsi_snes_lag_preconditioner_persists", "true"}};
   for (auto& option : FsiPreconditioner::default_options())
