@@ -51,6 +51,7 @@ TEST(LoadCase, FullCaseInSiUnits) {
 
   EXPECT_DOUBLE_EQ(c.fluid.density, 1050.0);
   EXPECT_DOUBLE_EQ(c.fluid.viscosity, 0.0035);
+  EXPECT_DOUBLE_EQ(c.fluid.stabilization_time_scale, 0.005);
 
   EXPECT_DOUBLE_EQ(c.time.step, 0.005);
   EXPECT_EQ(c.time.steps, 200); // end 1.0 s / step 5 ms
@@ -109,6 +110,7 @@ TEST(LoadCase, DefaultsFillTheRest) {
   EXPECT_DOUBLE_EQ(c.mesh.length_scale, 1.0);
   EXPECT_DOUBLE_EQ(c.fluid.density, defaults.fluid.density);
   EXPECT_DOUBLE_EQ(c.fluid.viscosity, defaults.fluid.viscosity);
+  EXPECT_EQ(c.fluid.stabilization_time_scale, 0.0); // the time step
   EXPECT_DOUBLE_EQ(c.time.step, 0.01);
   EXPECT_EQ(c.time.steps, defaults.time.steps);
   EXPECT_DOUBLE_EQ(c.time.spectral_radius, defaults.time.spectral_radius);
@@ -225,7 +227,7 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
   BadCase{"bad_malformed.yaml", 4, "", "malformed YAML"},
   BadCase{"bad_unknown_key.yaml", 8, "fluid.viscocity",
           "unknown key 'viscocity' (did you mean 'viscosity'?); allowed keys in fluid: density, "
-          "viscosity"},
+          "viscosity, stabilization_time_scale"},
   BadCase{"bad_unknown_top_key.yaml", 10, "outputs", "did you mean 'output'?"},
   BadCase{"bad_duplicate_key.yaml", 9, "fluid.density", "given twice (first on line 7)"},
   BadCase{"bad_density_type.yaml", 7, "fluid.density", "expected a number > 0, got 'heavy'"},

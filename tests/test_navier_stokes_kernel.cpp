@@ -116,3 +116,19 @@ TEST(NavierStokesKernel, GradDivParameterDoesNotDependOnTheTimeStep) {
   EXPECT_NEAR(fine.tau_m, 0.5e-7, 1e-6 * 0.5e-7);
   EXPECT_LT(coarse.tau_m, 0.5e-4);
 }
+
+TEST(NavierStokesKernel, StabilizationTimeScaleReplacesTheStep) {
+  // With T set, tau_M no longer depends on dt and equals the value at dt = T exactly (the
+  // same expression); nu_C never depends on either.
+  ElementCase s = random_setup(4);
+  const Vec3 u{0.3, -0.2, 0.5};
+  const Stabilization at_T = stabilization(s.geo, u, s.fluid, 5e-3);
+  s.fluid.stabilization_time_scale = 5e-3;
+  for (double dt : {1e-3, 2.5e-3, 1e-2}) {
+    const Stabilization fixed = stabilization(s.geo, u, s.fluid, dt);
+    EXPECT_EQ(fixed.tau_m, at_T.tau_m);
+    EXPECT_EQ(fixed.nu_c, at_T.nu_c);
+  }
+  s.fluid.stabilization_time_scale = 0.0;
+  EXPECT_LT(stabilization(s.geo, u, s.fluid, 1e-3).tau_m, at_T.tau_m);
+}

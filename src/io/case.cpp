@@ -95,12 +95,14 @@ MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
 // --- sections of plain numbers -----------------------------------------------------------
 
 FluidSpec read_fluid(const YamlValue& v) {
-  v.check_keys({"density", "viscosity"});
+  v.check_keys({"density", "viscosity", "stabilization_time_scale"});
   FluidSpec fluid;
   if (auto x = v.get("density"))
     fluid.density = x->positive();
   if (auto x = v.get("viscosity"))
     fluid.viscosity = x->positive();
+  if (auto x = v.get("stabilization_time_scale"))
+    fluid.stabilization_time_scale = x->positive();
   return fluid;
 }
 

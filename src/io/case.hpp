@@ -32,6 +32,8 @@ struct MeshSpec {
 struct FluidSpec {
   double density = 1060.0;  ///< [kg/m^3]
   double viscosity = 0.004; ///< dynamic viscosity [Pa s]
+  /// Time scale of tau_M's transient term [s]; 0: the time step (Bazilevs et al. 2007).
+  double stabilization_time_scale = 0.0;
 };
 
 struct TimeSpec {

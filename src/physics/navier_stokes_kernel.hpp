@@ -29,6 +29,13 @@
 // and PSPG with tau_M ~ dt/2 are consistent (r_M includes du/dt), and the pulse speed does
 // not move with dt once nu_C is fixed.
 //
+// Where 4/dt^2 is not small against u.G u (coarse meshes: h 4.5 mm, |u| 1 m/s gives
+// 2e5 s^-2, 4/dt^2 is 1.6e5 at dt 5 ms), the step sets the stabilization, so results move
+// with dt for a reason other than time accuracy: the 4.5 mm dissection's peak-systolic
+// TL-FL pressure difference rose by 14-16 % per halving of dt (20 -> 2.5 ms) while with the
+// time term's T held at 5 ms it moved by under 0.3 % from 10 to 2.5 ms (docs/study.md).
+// FluidProperties::stabilization_time_scale sets T; 0 (the default) takes dt.
+//
 // On a moving mesh (ALE, fsi_problem.hpp) the same form holds on the configuration at
 // t_{n+alpha_f} with du/dt the time derivative at fixed mesh node and the convective velocity
 // c = u - w, w the mesh velocity (Bazilevs, Calo, Hughes & Zhang 2008, eq. 12): every
@@ -60,6 +67,8 @@ namespace tearflow::physics {
 struct FluidProperties {
   double density = 1060.0;  ///< rho [kg/m^3]
   double viscosity = 0.004; ///< mu [Pa s]
+  /// T in tau_M's transient term 4 / T^2 [s]; 0: the time step dt.
+  double stabilization_time_scale = 0.0;
 };
 
 /// Nodal values on one element. Node-major dofs: 4 a + i (i < 3 velocity, i = 3 pressure).
@@ -93,7 +102,8 @@ inline Stabilization stabilization(const fem::TetGeometry& geo, const Vec3& velo
     }
   const double steady = uGu + C_I * nu * nu * GG; // tau_C^-2
   Stabilization s;
-  s.tau_m = 1.0 / std::sqrt(4.0 / (dt * dt) + steady);
+  const double T = fluid.stabilization_time_scale > 0.0 ? fluid.stabilization_time_scale : dt;
+  s.tau_m = 1.0 / std::sqrt(4.0 / (T * T) + steady);
   const Vec3& g = geo.grad[0]; // g = -grad N_0; only g.g enters
   s.nu_c = std::sqrt(steady) / dot(g, g);
   return s;

@@ -62,8 +62,12 @@ io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
   f.emplace_back("time step", fmt::format("{} s", c.time.step));
   f.emplace_back("time scheme", fmt::format("spectral radius {}", c.time.spectral_radius));
   if (!c.boundary_conditions.empty())
-    f.emplace_back("fluid", fmt::format("density {} kg/m^3, viscosity {} Pa s", c.fluid.density,
-                                        c.fluid.viscosity));
+    f.emplace_back("fluid", fmt::format("density {} kg/m^3, viscosity {} Pa s{}", c.fluid.density,
+                                        c.fluid.viscosity,
+                                        c.fluid.stabilization_time_scale > 0.0
+                                            ? fmt::format(", stabilization time scale {} s",
+                                                          c.fluid.stabilization_time_scale)
+                                            : ""));
   for (const io::BoundaryCondition& b : c.boundary_conditions)
     f.emplace_back("face " + b.face, condition(b));
   if (c.solid) {

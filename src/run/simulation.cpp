@@ -106,7 +106,8 @@ struct Simulation::Output {
 
 Simulation::Simulation(io::Case c, MPI_Comm comm) : case_(std::move(c)), mesh_(load_mesh(case_)) {
   dmesh_ = std::make_unique<fem::DistributedMesh>(mesh_, comm);
-  const physics::FluidProperties fluid{case_.fluid.density, case_.fluid.viscosity};
+  const physics::FluidProperties fluid{case_.fluid.density, case_.fluid.viscosity,
+                                       case_.fluid.stabilization_time_scale};
   const auto scheme = physics::GeneralizedAlpha::from_spectral_radius(case_.time.spectral_radius);
   if (io::is_fsi(case_)) {
     auto region = [&](const char* name) {
