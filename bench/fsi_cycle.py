@@ -16,7 +16,7 @@ its checkpoint to that time (its own step), then the fine mesh (`geometry tbad -
 preconditioner's first setup, the interpolated state's settling) and not timed. Newton and
 solver options as the source case says.
 """
-import argparse, json, os, platform, re, subprocess, tempfile, time
+import argparse, json, os, platform, re, subprocess, sys, tempfile, time
 
 from run_progress import BIN, run_case
 
@@ -80,6 +80,9 @@ def main():
                                             extra=["--start-from",
                                                    os.path.join(coarse_dir, "checkpoint.bin"),
                                                    "--start-case", coarse_case]))
+                # each run as it ends: a long benchmark cut short keeps what it measured
+                print(json.dumps({"phase": phase, **row["runs"][-1]}), file=sys.stderr,
+                      flush=True)
             result["phases"].append(row)
     for ranks in a.ranks:  # over the phases: the cycle's mean per step
         runs = [r for p in result["phases"] for r in p["runs"]

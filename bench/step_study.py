@@ -3,7 +3,8 @@
 
 usage: bench/step_study.py --source-case CASE --source-run DIR --out DIR
                            [--steps-ms 20 10 5 2.5 1] [--cycles 1] [--frame-ms 10]
-                           [--newton-rtol 1e-4] [--ranks 2] [--tabulate]
+                           [--newton-rtol 1e-4] [--ranks 2] [--stabilization-time-scale T]
+                           [--tabulate]
 A periodic FSI run of the dissection (its checkpoint at a cycle's end, e.g. the demo's OR,
 results/tbad-demo/OR/run, and its case with the outlets it ended with) is continued at each
 step for --cycles cycles (`run --start-from`, its outlets fixed), each frame --frame-ms apart
@@ -12,6 +13,9 @@ The headline metrics (FR_FL and dP TL-FL at peak systole and end diastole per st
 tears' pressure drops, the inlet's pressures, AAo dilation) are compared with the finest
 step's: the largest step whose pressures are all within 0.5 mmHg and whose FR_FL and
 dilation are within 2 % of the finest's is the one the study's template takes.
+--stabilization-time-scale T: tau_M's time term at T seconds in every run instead of each
+run's step (fluid.stabilization_time_scale), which separates the time integration's accuracy
+from the stabilization's dependence on the step (docs/study.md).
 --tabulate: only analyse and compare the runs already in --out.
 """
 import argparse, json, os, re, subprocess, sys
@@ -21,7 +25,9 @@ from run_progress import BIN
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 
 
-def case_text(text, step, rtol, every, directory):
+def case_text(text, step, rtol, every, directory, time_scale=None):
+    if time_scale:
+        text = re.sub(r"fluid: \{", "fluid: {stabilization_time_scale: %r, " % time_scale, text)
     text = re.sub(r"time: \{step: [^,]*,", "time: {step: %r," % step, text)
     text = re.sub(r"max_cycles: \d+", "max_cycles: 50", text)
     text = re.sub(r"rtol: [^,}]*", "rtol: %r" % rtol, text)
@@ -60,6 +66,7 @@ def main():
     ap.add_argument("--frame-ms", type=float, default=10)
     ap.add_argument("--newton-rtol", type=float, default=1e-4)
     ap.add_argument("--ranks", type=int, default=2)
+    ap.add_argument("--stabilization-time-scale", type=float)
     ap.add_argument("--tabulate", action="store_true")
     a = ap.parse_args()
     text = open(a.source_case).read()
@@ -75,7 +82,8 @@ def main():
         case = directory + ".yaml"
         every = max(1, round(a.frame_ms / ms))
         if not a.tabulate:
-            open(case, "w").write(case_text(text, ms / 1000, a.newton_rtol, every, directory))
+            open(case, "w").write(case_text(text, ms / 1000, a.newton_rtol, every, directory,
+                                               a.stabilization_time_scale))
             last = round((t0 + a.cycles * period) / (ms / 1000))
             cmd = [BIN, "run", case, "--start-from", os.path.join(run_dir, "checkpoint.bin"),
                    "--steps", str(last)]
