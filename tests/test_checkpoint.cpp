@@ -175,3 +175,27 @@ TEST(Checkpoint, RestartNamesWhatChanged) {
   EXPECT_THAT(error(c.fingerprint, 10), HasSubstr("is at step 17 (t = 0.0425 s), past the "
                                                   "case's last step 10"));
 }
+
+TEST(Checkpoint, StartFromMayChangeHowTimeIsDiscretizedNotTheRun) {
+  // --start-from takes a state into a run at another step or stabilization time scale
+  // (the same physics, discretized otherwise); --restart continues one run, so it refuses both.
+  const Checkpoint c = sample(); // step 17 of 0.0025 s, no stabilization time scale
+  const tearflow::io::Fingerprint now = {
+      {"mesh", "3 nodes"}, {"time step", "0.005 s"}, {"stabilization time scale", "0.005 s"}};
+  const auto error = [&](auto check) {
+    try {
+      check();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error([&] { tearflow::run::check_start(c, now, 3, 2, 0.0025, 30, "c.bin"); }),
+            "no error");
+  EXPECT_THAT(error([&] { tearflow::run::check_restart(c, now, 3, 2, 30, "c.bin"); }),
+              HasSubstr("stabilization time scale: not in the checkpoint; now 0.005 s"));
+  tearflow::io::Fingerprint other_mesh = now;
+  other_mesh[0].second = "4 nodes";
+  EXPECT_THAT(error([&] { tearflow::run::check_start(c, other_mesh, 3, 2, 0.0025, 30, "c.bin"); }),
+              HasSubstr("interpolated to this mesh when --start-case"));
+}

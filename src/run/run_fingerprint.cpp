@@ -62,12 +62,11 @@ io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
   f.emplace_back("time step", fmt::format("{} s", c.time.step));
   f.emplace_back("time scheme", fmt::format("spectral radius {}", c.time.spectral_radius));
   if (!c.boundary_conditions.empty())
-    f.emplace_back("fluid", fmt::format("density {} kg/m^3, viscosity {} Pa s{}", c.fluid.density,
-                                        c.fluid.viscosity,
-                                        c.fluid.stabilization_time_scale > 0.0
-                                            ? fmt::format(", stabilization time scale {} s",
-                                                          c.fluid.stabilization_time_scale)
-                                            : ""));
+    f.emplace_back("fluid", fmt::format("density {} kg/m^3, viscosity {} Pa s", c.fluid.density,
+                                        c.fluid.viscosity));
+  if (c.fluid.stabilization_time_scale > 0.0)  // a part of its own only when set: older
+    f.emplace_back("stabilization time scale", // checkpoints keep matching
+                   fmt::format("{} s", c.fluid.stabilization_time_scale));
   for (const io::BoundaryCondition& b : c.boundary_conditions)
     f.emplace_back("face " + b.face, condition(b));
   if (c.solid) {
@@ -91,6 +90,10 @@ io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
 }
 
 namespace {
+
+/// What a new run may change in a state it starts from (--start-from): how the same physics
+/// is discretized in time, not the physics.
+const std::set<std::string> kDiscretization = {"time step", "stabilization time scale"};
 
 /// "" when the checkpoint's parts equal `now`'s (parts named in `skip` aside), else a line
 /// per part that changed.
@@ -128,7 +131,7 @@ void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now,
   check_size(checkpoint, num_nodes, block, file);
   if (const std::string changed = changes(checkpoint.fingerprint, now, {}); !changed.empty()) {
     // Only the step changed: the state itself can start a run at the new step.
-    const bool step_only = changes(checkpoint.fingerprint, now, {"time step"}).empty();
+    const bool step_only = changes(checkpoint.fingerprint, now, kDiscretization).empty();
     input_error("checkpoint '{}' was written by a different run; what changed since:{}\nA "
                 "restart continues the same run; {}",
                 file.string(), changed,
@@ -146,14 +149,17 @@ void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now,
 
 int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
                 int block, double time_step, int last_step, const std::filesystem::path& file) {
-  if (const std::string changed = changes(checkpoint.fingerprint, now, {"time step"});
+  if (const std::string changed = changes(checkpoint.fingerprint, now, kDiscretization);
       !changed.empty()) {
-    const bool mesh_only = changes(checkpoint.fingerprint, now, {"time step", "mesh"}).empty();
+    const bool mesh_only =
+        changes(checkpoint.fingerprint, now, {"time step", "stabilization time scale", "mesh"})
+            .empty();
     input_error("checkpoint '{}' is the state of a different case; what differs:{}\n{}",
                 file.string(), changed,
                 mesh_only ? "A state on another mesh of the same case is interpolated to this "
                             "mesh when --start-case names the case of the run that wrote it"
-                          : "--start-from takes the state of the same case (the time step aside)");
+                          : "--start-from takes the state of the same case (its time step and "
+                            "stabilization time scale aside)");
   }
   check_size(checkpoint, num_nodes, block, file);
   const double steps = checkpoint.time / time_step;
@@ -171,7 +177,9 @@ int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, In
 
 void check_same_but_mesh(const io::Fingerprint& source, const io::Fingerprint& now,
                          const std::filesystem::path& source_case) {
-  if (const std::string changed = changes(source, now, {"mesh", "time step"}); !changed.empty())
+  if (const std::string changed =
+          changes(source, now, {"mesh", "time step", "stabilization time scale"});
+      !changed.empty())
     input_error("case '{}' (the state's) differs from this case in more than the mesh and the "
                 "time step:{}",
                 source_case.string(), changed);

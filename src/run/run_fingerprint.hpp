@@ -23,15 +23,16 @@ void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now,
                    int block, int last_step, const std::filesystem::path& file);
 
 /// InputError naming `file` when the checkpoint cannot start a new run of this case at its
-/// time (`run --start-from`): as check_restart, except that the time step may differ, and
+/// time (`run --start-from`): as check_restart, except that the time step and the fluid's
+/// stabilization time scale (how the same physics is discretized) may differ, and
 /// the checkpoint's time must then be a whole number of the case's steps (the new run's
 /// first step number; returned) within 1e-9 of a step.
 int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
                 int block, double time_step, int last_step, const std::filesystem::path& file);
 
 /// InputError naming `source_case` when that case (whose run wrote the checkpoint a new run
-/// starts from, on its own mesh) differs from the case now in anything but the mesh and the
-/// time step.
+/// starts from, on its own mesh) differs from the case now in anything but the mesh, the
+/// time step and the stabilization time scale.
 void check_same_but_mesh(const io::Fingerprint& source, const io::Fingerprint& now,
                          const std::filesystem::path& source_case);
 
