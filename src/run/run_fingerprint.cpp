@@ -95,6 +95,13 @@ namespace {
 /// is discretized in time, not the physics.
 const std::set<std::string> kDiscretization = {"time step", "stabilization time scale"};
 
+/// kDiscretization and the mesh: what --start-from --start-case may change.
+std::set<std::string> discretization_and_mesh() {
+  std::set<std::string> parts = kDiscretization;
+  parts.insert("mesh");
+  return parts;
+}
+
 /// "" when the checkpoint's parts equal `now`'s (parts named in `skip` aside), else a line
 /// per part that changed.
 std::string changes(const io::Fingerprint& then_parts, const io::Fingerprint& now,
@@ -130,7 +137,7 @@ void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now,
                    int block, int last_step, const std::filesystem::path& file) {
   check_size(checkpoint, num_nodes, block, file);
   if (const std::string changed = changes(checkpoint.fingerprint, now, {}); !changed.empty()) {
-    // Only the step changed: the state itself can start a run at the new step.
+    // Only the discretization in time changed: the state itself can start a run with it.
     const bool step_only = changes(checkpoint.fingerprint, now, kDiscretization).empty();
     input_error("checkpoint '{}' was written by a different run; what changed since:{}\nA "
                 "restart continues the same run; {}",
@@ -151,9 +158,7 @@ int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, In
                 int block, double time_step, int last_step, const std::filesystem::path& file) {
   if (const std::string changed = changes(checkpoint.fingerprint, now, kDiscretization);
       !changed.empty()) {
-    const bool mesh_only =
-        changes(checkpoint.fingerprint, now, {"time step", "stabilization time scale", "mesh"})
-            .empty();
+    const bool mesh_only = changes(checkpoint.fingerprint, now, discretization_and_mesh()).empty();
     input_error("checkpoint '{}' is the state of a different case; what differs:{}\n{}",
                 file.string(), changed,
                 mesh_only ? "A state on another mesh of the same case is interpolated to this "
@@ -177,11 +182,9 @@ int check_start(const io::Checkpoint& checkpoint, const io::Fingerprint& now, In
 
 void check_same_but_mesh(const io::Fingerprint& source, const io::Fingerprint& now,
                          const std::filesystem::path& source_case) {
-  if (const std::string changed =
-          changes(source, now, {"mesh", "time step", "stabilization time scale"});
-      !changed.empty())
-    input_error("case '{}' (the state's) differs from this case in more than the mesh and the "
-                "time step:{}",
+  if (const std::string changed = changes(source, now, discretization_and_mesh()); !changed.empty())
+    input_error("case '{}' (the state's) differs from this case in more than the mesh, the "
+                "time step and the stabilization time scale:{}",
                 source_case.string(), changed);
 }
 
