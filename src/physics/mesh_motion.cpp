@@ -122,9 +122,12 @@ MeshMotion::MeshMotion(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
   // The fluid's BoomerAMG settings for 3D (HMIS / ext+i), unless the user set any.
   fem::set_default_options(fem::boomeramg_3d_options("-mesh_"));
   // The displacement enters the fluid's geometry, so its error is a residual error of the
-  // FSI system: solve below the Newton tolerance (1e-8 relative left pipe-fsi's Newton
-  // residual histories unchanged against 1e-10, 0.3 s/step faster).
-  TF_PETSC(KSPSetTolerances(ksp_, 1e-8, 1e-20, PETSC_DEFAULT, 1000));
+  // FSI system: solve below the Newton tolerance. Any interior displacement is a valid ALE
+  // map (the wall's nodes are set exactly, and x and w come from the same d), so the solve's
+  // error only has to stay below Newton's: 1e-6 relative to the lifted wall motion left
+  // pipe-fsi's Newton residual histories unchanged to three digits against 1e-8 (and 1e-8
+  // against 1e-10), 0.6 s/step faster on 2 ranks (37 -> 24 CG iterations per step).
+  TF_PETSC(KSPSetTolerances(ksp_, 1e-6, 1e-20, PETSC_DEFAULT, 1000));
   TF_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   TF_PETSC(KSPSetFromOptions(ksp_));
 }
