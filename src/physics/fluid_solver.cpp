@@ -83,6 +83,14 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& ne
                                "-snes_lag_preconditioner_persists", &persists, nullptr));
   lag_persists_ = persists;
   TF_PETSC(SNESSetLagPreconditioner(snes_, -1));
+  PetscReal contraction = 0.0;
+  TF_PETSC(PetscOptionsGetReal(nullptr, Problem::options_prefix, "-jacobian_reuse_contraction",
+                               &contraction, nullptr));
+  if (!(contraction >= 0.0 && contraction < 1.0))
+    throw InputError(fmt::format("-{}jacobian_reuse_contraction {}: expected a number in [0, 1) "
+                                 "(0: a Jacobian every Newton iteration)",
+                                 Problem::options_prefix, contraction));
+  reuse_contraction_ = contraction;
   if constexpr (requires(Problem & p, KSP k) { p.attach_preconditioner(k); })
     problem.attach_preconditioner(ksp);
   TF_PETSC(SNESSetConvergenceHistory(snes_, residual_history_.data(), nullptr,
@@ -116,14 +124,38 @@ template <typename Problem> bool NewtonStepper<Problem>::preconditioner_due() {
   return due;
 }
 
+// Newton with the Jacobian kept while it contracts well (between Newton's method and the
+// chord method, which keeps one Jacobian throughout): where the last iteration reduced ||R|| by
+// the factor theta or better, the iterate moved little and the next iteration keeps the
+// Jacobian; where it did not (always the first iteration of a step), the Jacobian is assembled
+// anew. A kept Jacobian contracts linearly, not quadratically, so theta must be small enough
+// that the linear rate still meets the tolerance in as many iterations (fsi_problem.cpp
+// measures it). The decision depends on the step's own residual history alone, so a restarted
+// run repeats it.
+template <typename Problem> bool NewtonStepper<Problem>::jacobian_reusable(SNES snes) const {
+  if (reuse_contraction_ <= 0.0 || !reuse_allowed_ || rebuild_preconditioner_ || jacobians_ == 0)
+    return false;
+  PetscInt k = 0, length = 0;
+  PetscReal* history = nullptr;
+  SNESGetIterationNumber(snes, &k);
+  SNESGetConvergenceHistory(snes, &history, nullptr, &length);
+  return k > 0 && k < length && history[k] <= reuse_contraction_ * history[k - 1];
+}
+
 template <typename Problem>
 PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES snes, Vec U, Mat A, Mat P, void* ctx) {
   auto* self = static_cast<NewtonStepper*>(ctx);
   const double t0 = MPI_Wtime();
   const PetscErrorCode err = self->callback_error_.guard([&] {
-    // SNES decides on the preconditioner after this callback: -2 rebuilds it once.
-    TF_PETSC(SNESSetLagPreconditioner(snes, self->preconditioner_due() ? -2 : -1));
-    self->problem_.jacobian(U, P);
+    if (self->jacobian_reusable(snes)) { // P unchanged: the preconditioner stays too
+      ++self->jacobians_reused_;
+      TF_PETSC(SNESSetLagPreconditioner(snes, -1));
+    } else {
+      ++self->jacobians_;
+      // SNES decides on the preconditioner after this callback: -2 rebuilds it once.
+      TF_PETSC(SNESSetLagPreconditioner(snes, self->preconditioner_due() ? -2 : -1));
+      self->problem_.jacobian(U, P);
+    }
     // The operator, where it is not P: the shell adding the coupled outlets, or PETSc's
     // finite-difference one (-snes_mf_operator), which takes its base point here.
     if (A != P) {
@@ -157,16 +189,20 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   problem_.apply_dirichlet(U_);
   if (!lag_persists_)
     rebuild_preconditioner_ = true;
+  reuse_allowed_ = true;
+  jacobians_ = jacobians_reused_ = 0;
   PetscErrorCode err = SNESSolve(snes_, nullptr, U_);
   SNESConvergedReason reason;
   SNESGetConvergedReason(snes_, &reason);
   // Solves the step again from U_n with a freshly built preconditioner; the failed attempt's
   // iterations still count in the report (they were spent).
-  int spent_its = 0, spent_lits = 0;
+  int spent_its = 0, spent_lits = 0, spent_jacobians = 0;
   auto solve_again = [&] {
     const StepReport failed = read_step_report(snes_, start, assembly_seconds_);
     spent_its += failed.newton_iterations;
     spent_lits += failed.linear_iterations;
+    spent_jacobians += jacobians_;
+    jacobians_ = jacobians_reused_ = 0;
     TF_PETSC(VecCopy(U_prev_, U_));
     problem_.apply_dirichlet(U_);
     rebuild_preconditioner_ = true;
@@ -179,6 +215,15 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
     spdlog::info("step t = {:.6g} s: linear solve failed with the lagged preconditioner; "
                  "retrying with a new one",
                  t + dt);
+    solve_again();
+  }
+  // A kept Jacobian can turn stale where the step changes course (a residual that stops
+  // falling, then grows): solve the step again with one every iteration before anything else.
+  if (err == 0 && reason < 0 && jacobians_reused_ > 0) {
+    spdlog::info("step t = {:.6g} s: Newton with a kept Jacobian failed ({}); retrying with one "
+                 "every iteration",
+                 t + dt, SNESConvergedReasons[reason]);
+    reuse_allowed_ = false;
     solve_again();
   }
   // An approximate Jacobian (FSI: the mesh inside the fluid held, or with
@@ -202,6 +247,7 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   report.newton_iterations += spent_its;
   report.retried_iterations = spent_its;
   report.linear_iterations += spent_lits;
+  report.jacobians = spent_jacobians + jacobians_;
   if (const std::string why = newton_failure(err, callback_error_, reason, report.residual_final);
       !why.empty()) {
     TF_PETSC(VecCopy(U_prev_, U_)); // leave the last good state in place

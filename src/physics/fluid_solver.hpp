@@ -47,6 +47,9 @@ private:
   /// -<prefix>snes_lag_preconditioner, counted here rather than by SNES so that its count
   /// can restart with the run; see rebuild_preconditioner_next).
   bool preconditioner_due();
+  /// Whether Newton iteration k keeps the Jacobian of the one before: the last iteration
+  /// contracted ||R|| by at least -<prefix>jacobian_reuse_contraction (fluid_solver.cpp).
+  bool jacobian_reusable(SNES snes) const;
 
   Problem& problem_;
   fem::OwnedVec U_, Udot_, U_prev_, R_;
@@ -59,6 +62,9 @@ private:
   bool lag_persists_ = false;       ///< the count goes on across steps
   bool rebuild_preconditioner_ = true;
   PetscInt jacobians_since_rebuild_ = 0;
+  double reuse_contraction_ = 0.0;           ///< 0: a Jacobian every Newton iteration
+  bool reuse_allowed_ = true;                ///< off while a step that reused one is solved again
+  int jacobians_ = 0, jacobians_reused_ = 0; ///< this step's attempt
   std::array<PetscReal, 64> residual_history_{}; ///< ||R|| per Newton iteration, from SNES
 };
 

@@ -57,28 +57,35 @@ FsiPreconditioner::FsiPreconditioner(const fem::DofMap& dofs,
 }
 
 fem::OptionList FsiPreconditioner::default_options() {
-  fem::OptionList options = {
-      {"-fsi_pc_type", "fieldsplit"},
-      {"-fsi_pc_fieldsplit_type", "schur"},
-      {"-fsi_pc_fieldsplit_schur_fact_type", "lower"},
-      {"-fsi_pc_fieldsplit_schur_precondition", "selfp"},
-      {"-fsi_fieldsplit_motion_ksp_type", "preonly"},
-      {"-fsi_fieldsplit_motion_pc_type", "fieldsplit"},
-      {"-fsi_fieldsplit_motion_pc_fieldsplit_type", "multiplicative"},
-      {"-fsi_fieldsplit_motion_fieldsplit_wall_ksp_type", "preonly"},
-      {"-fsi_fieldsplit_motion_fieldsplit_wall_pc_type", "lu"},
-      {"-fsi_fieldsplit_motion_fieldsplit_wall_pc_factor_mat_solver_type", "mumps"},
-      // Block low-rank factors to 1e-3: same Krylov counts, half the factorization time
-      // on pipe-fsi's thick 85 k-tet wall (docs/performance.md).
-      {"-fsi_fieldsplit_motion_fieldsplit_wall_mat_mumps_icntl_35", "1"},
-      {"-fsi_fieldsplit_motion_fieldsplit_wall_mat_mumps_cntl_7", "1e-3"},
-      {"-fsi_fieldsplit_motion_fieldsplit_fluid_ksp_type", "preonly"},
-      {"-fsi_fieldsplit_pressure_ksp_type", "preonly"}};
+  fem::OptionList options = {{"-fsi_pc_type", "fieldsplit"},
+                             {"-fsi_pc_fieldsplit_type", "schur"},
+                             {"-fsi_pc_fieldsplit_schur_fact_type", "lower"},
+                             {"-fsi_pc_fieldsplit_schur_precondition", "selfp"},
+                             {"-fsi_fieldsplit_motion_ksp_type", "preonly"},
+                             {"-fsi_fieldsplit_motion_pc_type", "fieldsplit"},
+                             {"-fsi_fieldsplit_motion_pc_fieldsplit_type", "multiplicative"},
+                             {"-fsi_fieldsplit_motion_fieldsplit_wall_ksp_type", "preonly"},
+                             {"-fsi_fieldsplit_motion_fieldsplit_fluid_ksp_type", "preonly"},
+                             {"-fsi_fieldsplit_pressure_ksp_type", "preonly"}};
   for (const char* block :
        {"-fsi_fieldsplit_motion_fieldsplit_fluid_", "-fsi_fieldsplit_pressure_"})
     for (auto& option : fem::boomeramg_3d_options(block))
       options.push_back(std::move(option));
   return options;
+}
+
+fem::OptionList FsiPreconditioner::wall_options(double stiffness_number) {
+  const std::string wall = "-fsi_fieldsplit_motion_fieldsplit_wall_";
+  if (stiffness_number < kDirectWallAbove)
+    return {{wall + "pc_type", "bjacobi"},
+            {wall + "sub_pc_type", "ilu"},
+            {wall + "sub_pc_factor_levels", "1"}};
+  // Block low-rank factors to 1e-3: same Krylov counts, half the factorization time on
+  // pipe-fsi's thick 85 k-tet wall (docs/performance.md).
+  return {{wall + "pc_type", "lu"},
+          {wall + "pc_factor_mat_solver_type", "mumps"},
+          {wall + "mat_mumps_icntl_35", "1"},
+          {wall + "mat_mumps_cntl_7", "1e-3"}};
 }
 
 void FsiPreconditioner::attach(KSP ksp) {

@@ -7,8 +7,8 @@
 //
 //   P^{-1} = lower Schur factorization, S ~ C_f - B_f diag(A)^{-1} B_f^T (selfp), and A
 //   applied by one block Gauss-Seidel sweep over
-//     "wall":  velocity and pressure of every wall node (interface included), solved
-//              directly (MUMPS), and
+//     "wall":  velocity and pressure of every wall node (interface included), by ILU(1)
+//              on each rank's part or solved directly (MUMPS), below), and
 //     "fluid": the velocity of the fluid-only nodes, one BoomerAMG V-cycle.
 //
 // Why. With the velocity alone as the first block (the split of the rigid-wall solver), the
@@ -26,6 +26,17 @@
 // pipe-fsi 4.45 s/step on 2 ranks against 5.39; only the small pulse tube on 2 ranks is slower
 // (0.41 against 0.35 s/step). With OpenBLAS: the reference BLAS makes MUMPS 3.4x slower
 // (docs/performance.md).
+//
+// The wall block's solver follows its stiffness number Lambda = (E / rho) dt^2 / h^2, the
+// ratio of the elastic to the inertial part of the block (h: the wall tets' mean size). Where
+// inertia weighs (small Lambda) the block is close to a mass matrix and ILU(1) on each rank's
+// part nearly solves it, at a fraction of a direct solve's cost and memory; where elasticity
+// dominates ILU's Krylov counts grow with 1/h^2 and the direct solve pays. Measured on 2
+// ranks (docs/performance.md, issue 23): pipe-fsi (Lambda ~ 8) 3.1 against 4.5 s/step;
+// the dissection at dt 5 ms, 4.5 mm (Lambda ~ 1.0e3) 2.5 against 3.9 s/step (Krylov 124
+// against 89 per step), 2 mm (5.2e3) 6.2 against 8.2 (123 against 80), 1 mm (2.1e4) 114
+// against 103 (92 against 34 Krylov per Newton iteration, 5 against 7 GB per process). The
+// crossing lies between the last two: direct from 1e4 up.
 //
 // Every piece stays a PETSc option (prefixes -fsi_fieldsplit_motion_,
 // -fsi_fieldsplit_motion_fieldsplit_wall_, ..._fluid_, -fsi_fieldsplit_pressure_). Giving
@@ -45,8 +56,15 @@ public:
   FsiPreconditioner(const fem::DofMap& dofs, const std::vector<unsigned char>& wall_node,
                     int fluid_pressure, int wall_pressure);
 
-  /// PETSc option defaults for this split (entered where the user set nothing).
+  /// PETSc option defaults for this split (entered where the user set nothing), the wall
+  /// block's solver apart (wall_options).
   static fem::OptionList default_options();
+
+  /// The wall block's solver for the wall's stiffness number Lambda = (E / rho) dt^2 / h^2
+  /// (FsiProblem::wall_stiffness_number): ILU(1) on each rank's part below
+  /// kDirectWallAbove, MUMPS at and above it (file comment).
+  static fem::OptionList wall_options(double stiffness_number);
+  static constexpr double kDirectWallAbove = 1.0e4;
 
   /// Names the outer split's index sets on the KSP's preconditioner, if it is a field split
   /// the user did not define by components, and arranges for the inner split to be named

@@ -1,6 +1,8 @@
 #include "physics/fsi_problem.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 namespace tearflow::physics {
 
@@ -14,7 +16,7 @@ FsiProblem::FsiProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
       wall_(mesh, dmesh, wall, std::move(wall_conditions), SolidScheme::dynamic(scheme),
             FieldLayout{block, wall_pressure, regions.wall}),
       mesh_(mesh, dmesh, regions.fluid), wall_scheme_(SolidScheme::dynamic(scheme)),
-      regions_(regions), moving_mesh_(moving_mesh) {
+      wall_material_(wall), regions_(regions), moving_mesh_(moving_mesh) {
   // Which physics each node belongs to, from the replicated mesh (a node's tets may sit on
   // other ranks): a pressure slot of a physics without tets at the node is an identity row.
   std::vector<unsigned char> in_fluid(mesh.num_nodes(), 0), in_wall(mesh.num_nodes(), 0);
@@ -83,7 +85,16 @@ fem::OptionList FsiProblem::default_solver_options() {
   // Full Newton steps (basic line search): before the shape derivatives, single steps raised
   // ||R|| now and then and backtracking stalled on the same direction (the 4.5 mm dissection
   // at 1.28e-6 in step 1; the 2 mm one failed its line search).
+  //
+  // The Jacobian kept from one Newton iteration to the next where the last one contracted
+  // ||R|| by 100 or more (fluid_solver.cpp). pipe-fsi (contractions 3e-3 per iteration): one
+  // Jacobian per step instead of three, 3.5 -> 2.7 s/step on 2 ranks, Newton unchanged. With
+  // 0.1 the large-step tube (tests/data/fsi/tube_large_step.yaml, contractions 0.05-0.02
+  // before Newton's quadratic phase) lost it: the kept Jacobian contracted 0.2-0.1 per
+  // iteration and the steps needed more than 7; with 0.01 5, 5, 5 as with one every
+  // iteration, 4 Jacobians each instead of 5.
   fem::OptionList options = {{"-fsi_ksp_rtol", "1e-4"},
+                             {"-fsi_jacobian_reuse_contraction", "0.01"},
                              {"-fsi_snes_lag_preconditioner", "10"},
                              {"-fsi_snes_lag_preconditioner_persists", "true"}};
   for (auto& option : FsiPreconditioner::default_options())
@@ -286,6 +297,31 @@ double FsiProblem::fluid_volume() const {
     }
   MPI_Allreduce(MPI_IN_PLACE, &volume, 1, MPI_DOUBLE, MPI_SUM, dmesh_.comm());
   return volume;
+}
+
+double FsiProblem::wall_stiffness_number(double dt) const {
+  const auto& X = dmesh_.points();
+  const auto& tets = dmesh_.tets();
+  const double edge_per_volume = 6.0 * std::sqrt(2.0); // regular tet: V = a^3 / (6 sqrt 2)
+  std::array<double, 2> sum{0.0, 0.0};                 // sum of h^2, count
+  for (size_t e = 0; e < tets.size(); ++e)
+    if (dmesh_.tet_region()[e] == regions_.wall) { // each tet on one rank
+      const Tet& t = tets[e];
+      const double v = std::abs(mesh::signed_volume(X[t[0]], X[t[1]], X[t[2]], X[t[3]]));
+      const double h = std::cbrt(edge_per_volume * v);
+      sum[0] += h * h;
+      sum[1] += 1.0;
+    }
+  MPI_Allreduce(MPI_IN_PLACE, sum.data(), 2, MPI_DOUBLE, MPI_SUM, dmesh_.comm());
+  if (sum[1] == 0.0)
+    return 0.0;
+  return wall_material_.youngs_modulus() / wall_material_.density * dt * dt * sum[1] / sum[0];
+}
+
+double FsiProblem::select_wall_solver(double dt) const {
+  const double lambda = wall_stiffness_number(dt);
+  fem::set_default_options(FsiPreconditioner::wall_options(lambda));
+  return lambda;
 }
 
 } // namespace tearflow::physics

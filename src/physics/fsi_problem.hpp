@@ -88,6 +88,12 @@ public:
   void set_wall_displacement(const std::vector<double>& all);
   /// Volume of the fluid on the configuration X + D (collective) [m^3].
   double fluid_volume() const;
+  /// The wall's stiffness number Lambda = (E / rho_0) dt^2 / h^2 at step dt, h^2 the mean over
+  /// the wall's tets of the squared edge of a regular tet of the same volume (collective).
+  double wall_stiffness_number(double dt) const;
+  /// Enters the wall block's solver for step dt as PETSc defaults (fsi_preconditioner.hpp),
+  /// before the Newton stepper is made; returns Lambda (collective).
+  double select_wall_solver(double dt) const;
   int mesh_iterations() const { return mesh_.last_iterations(); }
 
 private:
@@ -106,6 +112,7 @@ private:
   SolidProblem wall_;
   MeshMotion mesh_;
   SolidScheme wall_scheme_;
+  SolidMaterial wall_material_;
   FsiRegions regions_;
   bool moving_mesh_;
   double dt_ = 1.0;

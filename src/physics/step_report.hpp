@@ -15,6 +15,7 @@ struct StepReport {
   /// (fluid_solver.cpp): "Newton 15" of at most 10 was 5 + 10 retried.
   int retried_iterations = 0;
   int linear_iterations = 0;
+  int jacobians = 0;             ///< Jacobians assembled (the others reused one, fluid_solver.hpp)
   double residual_initial = 0.0; ///< ||R|| at the step's initial guess
   double residual_final = 0.0;
   double assembly_seconds = 0.0; ///< residual and Jacobian assembly

@@ -117,6 +117,10 @@ Simulation::Simulation(io::Case c, MPI_Comm comm) : case_(std::move(c)), mesh_(l
     fsi_ = std::make_unique<physics::FsiProblem>(
         mesh_, *dmesh_, fluid, make_conditions(case_, mesh_), case_.solid->material,
         case_.solid->conditions, scheme, physics::FsiRegions{region("fluid"), region("wall")});
+    const double stiffness = fsi_->select_wall_solver(case_.time.step);
+    spdlog::info(
+        "the wall's stiffness number (E / rho) dt^2 / h^2 = {:.3g}: its block by {}", stiffness,
+        stiffness < physics::FsiPreconditioner::kDirectWallAbove ? "ILU(1) per rank" : "MUMPS");
     fsi_solver_ = std::make_unique<physics::FsiSolver>(*fsi_, case_.newton);
   } else {
     problem_ = std::make_unique<physics::FluidProblem>(mesh_, *dmesh_, fluid,
@@ -491,9 +495,9 @@ RunSummary Simulation::run(const RunOptions& options) {
               ? fmt::format("{} (+{} retried)", r.newton_iterations - r.retried_iterations,
                             r.retried_iterations)
               : fmt::format("{}", r.newton_iterations);
-      fmt::print("step {:>5}/{}  t = {:.5f} s  Newton {} (|R| {:.2e} -> {:.2e})  KSP {:>4}  "
-                 "{:.2f} s/step (assembly {:.2f} s)  ETA {:.0f} s\n",
-                 step_, total, time(), newton, r.residual_initial, r.residual_final,
+      fmt::print("step {:>5}/{}  t = {:.5f} s  Newton {} (|R| {:.2e} -> {:.2e}, Jacobians {})  "
+                 "KSP {:>4}  {:.2f} s/step (assembly {:.2f} s)  ETA {:.0f} s\n",
+                 step_, total, time(), newton, r.residual_initial, r.residual_final, r.jacobians,
                  r.linear_iterations, r.assembly_seconds + r.solve_seconds, r.assembly_seconds,
                  eta);
       std::fflush(stdout);

@@ -61,6 +61,7 @@ VerificationResult verify_inflation(const VerifyOptions& options) {
   spec.wall_conditions.fixed = {{"wall_inlet", 0b100, {}, 0.0}, {"wall_outlet", 0b100, {}, 0.0}};
   // Newton to 1e-9 of the load's force scale: far below the 5 % checked.
   spec.newton = {15, 1e-8, 1e-9 * P0 * a * L};
+  spec.dt = dt;
   FsiTube tube(std::move(spec));
 
   const double b = a + h;

@@ -358,6 +358,7 @@ PulseRun run_pulse(double element_size, double dt, double c0, double c_open,
   spec.wall_conditions.fixed = {{"wall_inlet", 0b111, {}, 0.0}, {"wall_outlet", 0b111, {}, 0.0}};
   // Newton to 1e-9 of the load's force scale: arrival times move by far less than a step.
   spec.newton = {15, 1e-8, 1e-9 * P0 * a * a};
+  spec.dt = dt;
   const double start = MPI_Wtime();
   FsiTube tube(std::move(spec));
   PulseRun run;
