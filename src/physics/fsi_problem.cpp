@@ -85,16 +85,7 @@ fem::OptionList FsiProblem::default_solver_options() {
   // Full Newton steps (basic line search): before the shape derivatives, single steps raised
   // ||R|| now and then and backtracking stalled on the same direction (the 4.5 mm dissection
   // at 1.28e-6 in step 1; the 2 mm one failed its line search).
-  //
-  // The Jacobian kept from one Newton iteration to the next where the last one contracted
-  // ||R|| by 100 or more (fluid_solver.cpp). pipe-fsi (contractions 3e-3 per iteration): one
-  // Jacobian per step instead of three, 3.5 -> 2.7 s/step on 2 ranks, Newton unchanged. With
-  // 0.1 the large-step tube (tests/data/fsi/tube_large_step.yaml, contractions 0.05-0.02
-  // before Newton's quadratic phase) lost it: the kept Jacobian contracted 0.2-0.1 per
-  // iteration and the steps needed more than 7; with 0.01 5, 5, 5 as with one every
-  // iteration, 4 Jacobians each instead of 5.
   fem::OptionList options = {{"-fsi_ksp_rtol", "1e-4"},
-                             {"-fsi_jacobian_reuse_contraction", "0.01"},
                              {"-fsi_snes_lag_preconditioner", "10"},
                              {"-fsi_snes_lag_preconditioner_persists", "true"}};
   for (auto& option : FsiPreconditioner::default_options())
@@ -318,9 +309,20 @@ double FsiProblem::wall_stiffness_number(double dt) const {
   return wall_material_.youngs_modulus() / wall_material_.density * dt * dt * sum[1] / sum[0];
 }
 
-double FsiProblem::select_wall_solver(double dt) const {
+double FsiProblem::select_solver(double dt) const {
   const double lambda = wall_stiffness_number(dt);
   fem::set_default_options(FsiPreconditioner::wall_options(lambda));
+  // Newton keeps its Jacobian where the last iteration contracted ||R|| a hundredfold
+  // (fluid_solver.cpp) when the wall's inertia dominates the step (small Lambda: the step is
+  // nearly linear and the Jacobian barely moves within it), not when its elasticity does.
+  // pipe-fsi (Lambda ~ 8, contractions 3e-3): one Jacobian per step instead of three, 3.5 ->
+  // 2.7 s/step on 2 ranks, Newton unchanged; the large-step tube (Lambda ~ 60): 5, 5, 5
+  // iterations as with one every iteration, 4 Jacobians each instead of 5 (with a threshold of
+  // 0.1 the kept Jacobian's linear rate, 0.2-0.1, needed more than its 7). The 1 mm dissection
+  // at dt 5 ms (Lambda 2.1e4): Newton 3.5 -> 4.0 and Krylov 120 -> 160 per step at peak
+  // systole, 103 -> 122 s/step, where a Jacobian costs a tenth of an iteration's linear solve.
+  fem::set_default_options({{"-fsi_jacobian_reuse_contraction",
+                             lambda < FsiPreconditioner::kDirectWallAbove ? "0.01" : "0"}});
   return lambda;
 }
 

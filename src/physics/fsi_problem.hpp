@@ -91,9 +91,10 @@ public:
   /// The wall's stiffness number Lambda = (E / rho_0) dt^2 / h^2 at step dt, h^2 the mean over
   /// the wall's tets of the squared edge of a regular tet of the same volume (collective).
   double wall_stiffness_number(double dt) const;
-  /// Enters the wall block's solver for step dt as PETSc defaults (fsi_preconditioner.hpp),
-  /// before the Newton stepper is made; returns Lambda (collective).
-  double select_wall_solver(double dt) const;
+  /// Enters the solver for step dt as PETSc defaults, before the Newton stepper is made: the
+  /// wall block's (fsi_preconditioner.hpp) and whether Newton may keep its Jacobian
+  /// (fsi_problem.cpp), both by Lambda; returns Lambda (collective).
+  double select_solver(double dt) const;
   int mesh_iterations() const { return mesh_.last_iterations(); }
 
 private:

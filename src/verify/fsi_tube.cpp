@@ -25,7 +25,7 @@ FsiTube::FsiTube(FsiTubeSpec spec) : spec_(std::move(spec)), mesh_(mesh::make_pi
       spec_.wall_conditions, physics::GeneralizedAlpha::from_spectral_radius(spec_.rho_inf),
       physics::FsiRegions{region_index(mesh_, "fluid"), region_index(mesh_, "wall")},
       spec_.moving_mesh);
-  problem_->select_wall_solver(spec_.dt);
+  problem_->select_solver(spec_.dt);
   solver_ = std::make_unique<physics::FsiSolver>(*problem_, spec_.newton);
   on_interface_.assign(mesh_.points.size(), 0);
   in_fluid_.assign(mesh_.points.size(), 0);
