@@ -8,7 +8,7 @@
 //   P^{-1} = lower Schur factorization, S ~ C_f - B_f diag(A)^{-1} B_f^T (selfp), and A
 //   applied by one block Gauss-Seidel sweep over
 //     "wall":  velocity and pressure of every wall node (interface included), by ILU(1)
-//              on each rank's part or solved directly (MUMPS), below), and
+//              on each rank's part or directly by MUMPS (below), and
 //     "fluid": the velocity of the fluid-only nodes, one BoomerAMG V-cycle.
 //
 // Why. With the velocity alone as the first block (the split of the rigid-wall solver), the
@@ -32,9 +32,9 @@
 // inertia weighs (small Lambda) the block is close to a mass matrix and ILU(1) on each rank's
 // part nearly solves it, at a fraction of a direct solve's cost and memory; where elasticity
 // dominates ILU's Krylov counts grow with 1/h^2 and the direct solve pays. Measured on 2
-// ranks (docs/performance.md, issue 23): pipe-fsi (Lambda ~ 8) 3.1 against 4.5 s/step;
-// the dissection at dt 5 ms, 4.5 mm (Lambda ~ 1.0e3) 2.5 against 3.9 s/step (Krylov 124
-// against 89 per step), 2 mm (5.2e3) 6.2 against 8.2 (123 against 80), 1 mm (2.1e4) 114
+// ranks (docs/performance.md, issue 23): pipe-fsi (Lambda 8.1) 3.1 against 4.5 s/step;
+// the dissection at dt 5 ms, 4.5 mm (Lambda 3.3e3) 2.5 against 3.9 s/step (Krylov 124
+// against 89 per step), 2 mm (5.3e3) 6.2 against 8.2 (123 against 80), 1 mm (1.6e4) 114
 // against 103 (92 against 34 Krylov per Newton iteration, 5 against 7 GB per process). The
 // crossing lies between the last two: direct from 1e4 up.
 //

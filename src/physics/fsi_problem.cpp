@@ -315,11 +315,11 @@ double FsiProblem::select_solver(double dt) const {
   // Newton keeps its Jacobian where the last iteration contracted ||R|| a hundredfold
   // (fluid_solver.cpp) when the wall's inertia dominates the step (small Lambda: the step is
   // nearly linear and the Jacobian barely moves within it), not when its elasticity does.
-  // pipe-fsi (Lambda ~ 8, contractions 3e-3): one Jacobian per step instead of three, 3.5 ->
-  // 2.7 s/step on 2 ranks, Newton unchanged; the large-step tube (Lambda ~ 60): 5, 5, 5
+  // pipe-fsi (Lambda 8.1, contractions 3e-3): one Jacobian per step instead of three, 3.5 ->
+  // 2.7 s/step on 2 ranks, Newton unchanged; the large-step tube (Lambda 56): 5, 5, 5
   // iterations as with one every iteration, 4 Jacobians each instead of 5 (with a threshold of
   // 0.1 the kept Jacobian's linear rate, 0.2-0.1, needed more than its 7). The 1 mm dissection
-  // at dt 5 ms (Lambda 2.1e4): Newton 3.5 -> 4.0 and Krylov 120 -> 160 per step at peak
+  // at dt 5 ms (Lambda 1.6e4): Newton 3.5 -> 4.0 and Krylov 120 -> 160 per step at peak
   // systole, 103 -> 122 s/step, where a Jacobian costs a tenth of an iteration's linear solve.
   fem::set_default_options({{"-fsi_jacobian_reuse_contraction",
                              lambda < FsiPreconditioner::kDirectWallAbove ? "0.01" : "0"}});
