@@ -145,7 +145,7 @@ TEST(FsiRun, DefaultSplitSolvesTheWallWhole) {
     return std::regex_search(r.output, m, std::regex(pattern)) ? std::stol(m[1]) : -1L;
   };
   const long nodes = first("mesh: (\\d+) nodes");
-  // The tube's wall at dt 0.1 ms: stiffness number ~ 2 (fsi_preconditioner.hpp), ILU(1).
+  // The tube's wall at dt 0.1 ms: stiffness number 1.4 (fsi_preconditioner.hpp), ILU(1).
   const long wall = first("type: bjacobi[\\s\\S]*?type: ilu[\\s\\S]*?rows=(\\d+)");
   const long fluid = first("rows=(\\d+), cols=\\d+, bs=3");   // fluid-only velocity, BoomerAMG
   const long motion = first("rows=(\\d+), cols=\\d+, bs=4");  // every velocity, wall pressure
@@ -173,8 +173,8 @@ TEST(FsiRun, DefaultSplitSolvesTheWallWhole) {
 }
 
 // The wall block's solver follows the wall's stiffness number (E / rho) dt^2 / h^2
-// (fsi_preconditioner.hpp): the tube's at dt 0.1 ms is about 2 (ILU above); with twenty times
-// the step and a hundred times E it is about 1e5, above the direct solve's threshold 1e4.
+// (fsi_preconditioner.hpp): the tube's at dt 0.1 ms is 1.4 (ILU above); with twenty times the
+// step and a hundred times E it is 4e4 times that, 5.6e4, above the direct solve's 1e4.
 TEST(FsiRun, StiffWallIsSolvedDirectly) {
   std::string text;
   {
