@@ -133,6 +133,10 @@ TEST(FsiRun, OverloadedWallStopsWithAClearMessage) {
   ASSERT_NE(first, std::string::npos) << two.output;
   EXPECT_EQ(two.output.find("error: Newton failed", first + 1), std::string::npos) << two.output;
   EXPECT_THAT(two.output, Not(HasSubstr("MPI_ABORT"))) << two.output;
+  // The solver's choice is said once too, not per rank.
+  const size_t said = two.output.find("stiffness number");
+  ASSERT_NE(said, std::string::npos) << two.output;
+  EXPECT_EQ(two.output.find("stiffness number", said + 1), std::string::npos) << two.output;
 }
 
 TEST(FsiRun, DefaultSplitSolvesTheWallWhole) {

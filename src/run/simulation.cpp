@@ -118,11 +118,12 @@ Simulation::Simulation(io::Case c, MPI_Comm comm) : case_(std::move(c)), mesh_(l
         mesh_, *dmesh_, fluid, make_conditions(case_, mesh_), case_.solid->material,
         case_.solid->conditions, scheme, physics::FsiRegions{region("fluid"), region("wall")});
     const double stiffness = fsi_->select_solver(case_.time.step);
-    spdlog::info("the wall's stiffness number (E / rho) dt^2 / h^2 = {:.3g}: its block by {}",
-                 stiffness,
-                 stiffness < physics::FsiPreconditioner::kDirectWallAbove
-                     ? "ILU(1) per rank, Newton keeping its Jacobian while it contracts"
-                     : "MUMPS, a Jacobian every Newton iteration");
+    if (fem::mpi_rank(comm) == 0)
+      spdlog::info("the wall's stiffness number (E / rho) dt^2 / h^2 = {:.3g}: its block by {}",
+                   stiffness,
+                   stiffness < physics::FsiPreconditioner::kDirectWallAbove
+                       ? "ILU(1) per rank, Newton keeping its Jacobian while it contracts"
+                       : "MUMPS, a Jacobian every Newton iteration");
     fsi_solver_ = std::make_unique<physics::FsiSolver>(*fsi_, case_.newton);
   } else {
     problem_ = std::make_unique<physics::FluidProblem>(mesh_, *dmesh_, fluid,
