@@ -76,7 +76,7 @@ fem::OptionList FsiPreconditioner::default_options() {
 
 fem::OptionList FsiPreconditioner::wall_options(double stiffness_number) {
   const std::string wall = "-fsi_fieldsplit_motion_fieldsplit_wall_";
-  if (stiffness_number < kDirectWallAbove)
+  if (!wall_solved_directly(stiffness_number))
     return {{wall + "pc_type", "bjacobi"},
             {wall + "sub_pc_type", "ilu"},
             {wall + "sub_pc_factor_levels", "1"}};

@@ -65,6 +65,10 @@ public:
   /// kDirectWallAbove, MUMPS at and above it (file comment).
   static fem::OptionList wall_options(double stiffness_number);
   static constexpr double kDirectWallAbove = 1.0e4;
+  /// Whether a wall of this stiffness number gets the direct solve (wall_options).
+  static bool wall_solved_directly(double stiffness_number) {
+    return stiffness_number >= kDirectWallAbove;
+  }
 
   /// Names the outer split's index sets on the KSP's preconditioner, if it is a field split
   /// the user did not define by components, and arranges for the inner split to be named

@@ -16,7 +16,7 @@ FsiProblem::FsiProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& dmesh
       wall_(mesh, dmesh, wall, std::move(wall_conditions), SolidScheme::dynamic(scheme),
             FieldLayout{block, wall_pressure, regions.wall}),
       mesh_(mesh, dmesh, regions.fluid), wall_scheme_(SolidScheme::dynamic(scheme)),
-      wall_material_(wall), regions_(regions), moving_mesh_(moving_mesh) {
+      regions_(regions), moving_mesh_(moving_mesh) {
   // Which physics each node belongs to, from the replicated mesh (a node's tets may sit on
   // other ranks): a pressure slot of a physics without tets at the node is an identity row.
   std::vector<unsigned char> in_fluid(mesh.num_nodes(), 0), in_wall(mesh.num_nodes(), 0);
@@ -306,7 +306,8 @@ double FsiProblem::wall_stiffness_number(double dt) const {
   MPI_Allreduce(MPI_IN_PLACE, sum.data(), 2, MPI_DOUBLE, MPI_SUM, dmesh_.comm());
   if (sum[1] == 0.0)
     return 0.0;
-  return wall_material_.youngs_modulus() / wall_material_.density * dt * dt * sum[1] / sum[0];
+  const SolidMaterial& m = wall_.material();
+  return m.youngs_modulus() / m.density * dt * dt * sum[1] / sum[0];
 }
 
 double FsiProblem::select_solver(double dt) const {
@@ -322,7 +323,7 @@ double FsiProblem::select_solver(double dt) const {
   // at dt 5 ms (Lambda 1.6e4): Newton 3.5 -> 4.0 and Krylov 120 -> 160 per step at peak
   // systole, 103 -> 122 s/step, where a Jacobian costs a tenth of an iteration's linear solve.
   fem::set_default_options({{"-fsi_jacobian_reuse_contraction",
-                             lambda < FsiPreconditioner::kDirectWallAbove ? "0.01" : "0"}});
+                             FsiPreconditioner::wall_solved_directly(lambda) ? "0" : "0.01"}});
   return lambda;
 }
 

@@ -113,7 +113,6 @@ private:
   SolidProblem wall_;
   MeshMotion mesh_;
   SolidScheme wall_scheme_;
-  SolidMaterial wall_material_;
   FsiRegions regions_;
   bool moving_mesh_;
   double dt_ = 1.0;

@@ -121,9 +121,9 @@ Simulation::Simulation(io::Case c, MPI_Comm comm) : case_(std::move(c)), mesh_(l
     if (fem::mpi_rank(comm) == 0)
       spdlog::info("the wall's stiffness number (E / rho) dt^2 / h^2 = {:.3g}: its block by {}",
                    stiffness,
-                   stiffness < physics::FsiPreconditioner::kDirectWallAbove
-                       ? "ILU(1) per rank, Newton keeping its Jacobian while it contracts"
-                       : "MUMPS, a Jacobian every Newton iteration");
+                   physics::FsiPreconditioner::wall_solved_directly(stiffness)
+                       ? "MUMPS, a Jacobian every Newton iteration"
+                       : "ILU(1) per rank, Newton keeping its Jacobian while it contracts");
     fsi_solver_ = std::make_unique<physics::FsiSolver>(*fsi_, case_.newton);
   } else {
     problem_ = std::make_unique<physics::FluidProblem>(mesh_, *dmesh_, fluid,
