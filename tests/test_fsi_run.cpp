@@ -259,6 +259,11 @@ TEST(FsiRun, StalledStepIsRetriedWithTheExactOperator) {
   const auto r2 =
       run_tearflow("run " + case_file.string() + " -q -o " + two.string() + quasi, "mpirun -n 2");
   ASSERT_EQ(r2.code, 0) << r2.output;
+  // The retry is said once, not per rank.
+  const std::string retry = "Newton with the approximate Jacobian failed";
+  const size_t said = r2.output.find(retry);
+  ASSERT_NE(said, std::string::npos) << r2.output;
+  EXPECT_EQ(r2.output.find(retry, said + 1), std::string::npos) << r2.output;
   // Both solve the same nonlinear system to 1e-9 relative (GMRES to 1e-4 per iteration): the
   // states agree to solver tolerance, as in TwoRanksGiveTheSerialResult.
   expect_same(read_faces(reference), read_faces(retried), 1e-5);

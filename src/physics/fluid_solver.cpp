@@ -192,6 +192,9 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   reuse_allowed_ = true;
   jacobians_ = jacobians_reused_ = 0;
   PetscErrorCode err = SNESSolve(snes_, nullptr, U_);
+  // The retries below are decided alike on every rank (SNES's reason is collective); rank 0
+  // says so.
+  const bool root = fem::mpi_rank(problem_.dofs().mesh().comm()) == 0;
   SNESConvergedReason reason;
   SNESGetConvergedReason(snes_, &reason);
   // Solves the step again from U_n with a freshly built preconditioner; the failed attempt's
@@ -212,17 +215,19 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   // A preconditioner lagged from earlier iterations can be too stale for a sudden change
   // (a valve-like flow reversal): retry the step once with a freshly built one.
   if (err == 0 && reason == SNES_DIVERGED_LINEAR_SOLVE && preconditioner_lag_ != 1) {
-    spdlog::info("step t = {:.6g} s: linear solve failed with the lagged preconditioner; "
-                 "retrying with a new one",
-                 t + dt);
+    if (root)
+      spdlog::info("step t = {:.6g} s: linear solve failed with the lagged preconditioner; "
+                   "retrying with a new one",
+                   t + dt);
     solve_again();
   }
   // A kept Jacobian can turn stale where the step changes course (a residual that stops
   // falling, then grows): solve the step again with one every iteration before anything else.
   if (err == 0 && reason < 0 && jacobians_reused_ > 0) {
-    spdlog::info("step t = {:.6g} s: Newton with a kept Jacobian failed ({}); retrying with one "
-                 "every iteration",
-                 t + dt, SNESConvergedReasons[reason]);
+    if (root)
+      spdlog::info("step t = {:.6g} s: Newton with a kept Jacobian failed ({}); retrying with one "
+                   "every iteration",
+                   t + dt, SNESConvergedReasons[reason]);
     reuse_allowed_ = false;
     solve_again();
   }
@@ -236,9 +241,10 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   // not the default (docs/performance.md).
   if constexpr (requires(const Problem& p) { p.jacobian_is_approximate(); }) {
     if (err == 0 && reason < 0 && problem_.jacobian_is_approximate() && !uses_exact_operator()) {
-      spdlog::warn("step t = {:.6g} s: Newton with the approximate Jacobian failed ({}); "
-                   "retrying, and going on, with the exact operator by finite differences",
-                   t + dt, SNESConvergedReasons[reason]);
+      if (root)
+        spdlog::warn("step t = {:.6g} s: Newton with the approximate Jacobian failed ({}); "
+                     "retrying, and going on, with the exact operator by finite differences",
+                     t + dt, SNESConvergedReasons[reason]);
       use_exact_operator();
       solve_again();
     }
