@@ -24,12 +24,12 @@
 #include <spdlog/spdlog.h>
 
 #include "analysis/analyze_command.hpp"
-#include "analysis/report_command.hpp"
 #include "core/error.hpp"
 #include "fem/petsc.hpp"
 #include "geometry/geometry_command.hpp"
 #include "io/case.hpp"
 #include "mri/mri_command.hpp"
+#include "report/report_command.hpp"
 #include "run/default_case.hpp"
 #include "run/simulation.hpp"
 #include "run/solid_simulation.hpp"
@@ -297,7 +297,7 @@ int main(int argc, char** argv) {
   const geometry::GeometryCommand geometry_command(app);
   const tuning::TuneCommand tune_command(app);
   const analysis::AnalyzeCommand analyze_command(app);
-  const analysis::ReportCommand report_command(app);
+  const report::ReportCommand report_command(app);
   const study::StudyCommand study_command(app);
   const mri::MriCommand mri_command(app);
 

@@ -13,7 +13,7 @@ namespace tearflow::testing {
 
 /// mri::pulsatile_pipe_flow: Q0 = 0.35 m/s x pi R^2, swing 0.3: 0.65 to 1.35 Q0, so that an
 /// error relative to each frame's flow means something; peak centre-line velocity ~0.7 m/s.
-inline verify::WomersleyFlow test_pipe_flow(double radius = 6e-3, double swing = 0.3) {
+inline bc::WomersleyFlow test_pipe_flow(double radius = 6e-3, double swing = 0.3) {
   return mri::pulsatile_pipe_flow(radius, 0.35, swing);
 }
 

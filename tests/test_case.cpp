@@ -298,10 +298,10 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
 
 TEST(CaseYaml, NearestNameSuggestsOnlyTypos) {
   const std::vector<std::string> keys{"density", "viscosity"};
-  EXPECT_EQ(io::nearest_name("viscocity", keys), "viscosity");
-  EXPECT_EQ(io::nearest_name("Density", keys), "density");
-  EXPECT_EQ(io::nearest_name("desnity", keys), "density"); // swapped letters
-  EXPECT_EQ(io::nearest_name("temperature", keys), "");
+  EXPECT_EQ(nearest_name("viscocity", keys), "viscosity");
+  EXPECT_EQ(nearest_name("Density", keys), "density");
+  EXPECT_EQ(nearest_name("desnity", keys), "density"); // swapped letters
+  EXPECT_EQ(nearest_name("temperature", keys), "");
 }
 
 // --- the case against its mesh -----------------------------------------------------------

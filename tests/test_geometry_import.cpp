@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "geometry/geometry_report.hpp"
 #include "geometry/import.hpp"
 #include "geometry/sections.hpp"
@@ -109,7 +110,7 @@ TEST(GeometryImport, NonWatertightSurfaceIsAClearError) {
   write_cube_stl(dir.path / "open.stl", 1);
   write_cube_stl(dir.path / "closed.stl", 0);
   ImportOptions o;
-  o.landmarks = m.dir / kLandmarksFile;
+  o.landmarks = m.dir / GeometryFiles::kLandmarks;
   o.lumen = dir.path / "open.stl";
   o.wall = dir.path / "closed.stl";
   const std::string e = import_error(o, dir.path / "out");
@@ -118,24 +119,24 @@ TEST(GeometryImport, NonWatertightSurfaceIsAClearError) {
   o.lumen = dir.path / "closed.stl";
   o.wall = dir.path / "open.stl";
   EXPECT_THAT(import_error(o, dir.path / "out"), HasSubstr("wall surface"));
-  EXPECT_FALSE(fs::exists(dir.path / "out" / kMeshFile));
+  EXPECT_FALSE(fs::exists(dir.path / "out" / GeometryFiles::kMesh));
 }
 
 TEST(GeometryImport, FinishedMeshKeepsRegionsFacesAndLandmarks) {
   TempDir dir;
   const CachedModel m = cached_tbad("OR", kCoarse);
   ImportOptions o;
-  o.mesh = m.dir / kMeshFile;
-  o.landmarks = m.dir / kLandmarksFile;
+  o.mesh = m.dir / GeometryFiles::kMesh;
+  o.landmarks = m.dir / GeometryFiles::kLandmarks;
   import_geometry(o, dir.path / "out");
-  const mesh::Mesh back = read_fsi_mesh(dir.path / "out" / kMeshFile, 1e-3);
+  const mesh::Mesh back = read_fsi_mesh(dir.path / "out" / GeometryFiles::kMesh, 1e-3);
   EXPECT_EQ(back.num_nodes(), m.mesh.num_nodes());
   EXPECT_EQ(back.num_tets(), m.mesh.num_tets());
   EXPECT_EQ(back.regions, m.mesh.regions);
   ASSERT_EQ(back.faces.size(), m.mesh.faces.size());
   for (const mesh::Face& f : m.mesh.faces)
     EXPECT_EQ(back.face(f.name).triangles.size(), f.triangles.size()) << f.name;
-  const Landmarks l = read_landmarks(dir.path / "out" / kLandmarksFile);
+  const Landmarks l = read_landmarks(dir.path / "out" / GeometryFiles::kLandmarks);
   EXPECT_EQ(l.planes.size(), m.landmarks.planes.size());
 }
 
@@ -184,7 +185,7 @@ TEST(GeometryImport, SeparateFluidAndWallMeshesAreMergedAtTheirSharedNodes) {
   o.rename_faces = {
       {"lumen_inlet", "inlet"}, {"lumen_outlet", "outlet"}, {"lumen_wall", "interface"}};
   import_geometry(o, dir.path / "out");
-  const mesh::Mesh m = read_fsi_mesh(dir.path / "out" / kMeshFile, 1e-3);
+  const mesh::Mesh m = read_fsi_mesh(dir.path / "out" / GeometryFiles::kMesh, 1e-3);
   EXPECT_EQ(m.num_tets(), lumen.num_tets() + wall.num_tets());
   const MeshReport r = check_fsi_mesh(m);
   EXPECT_EQ(r.interface_triangles, lumen.face("lumen_wall").triangles.size());
@@ -223,11 +224,11 @@ mesh::Mesh reimport_faces(const CachedModel& m, const fs::path& dir, bool remesh
   ImportOptions o;
   o.lumen = dir / "lumen";
   o.wall = dir / "wall";
-  o.landmarks = m.dir / kLandmarksFile;
+  o.landmarks = m.dir / GeometryFiles::kLandmarks;
   o.element_size = kCoarse;
   o.remesh_surfaces = remesh;
   import_geometry(o, dir / "out");
-  mesh::Mesh back = read_fsi_mesh(dir / "out" / kMeshFile, 1e-3);
+  mesh::Mesh back = read_fsi_mesh(dir / "out" / GeometryFiles::kMesh, 1e-3);
   EXPECT_EQ(back.regions, (std::vector<std::string>{"fluid", "wall"}));
   EXPECT_EQ(face_names(back), face_names(m.mesh));
   return back;
@@ -258,7 +259,7 @@ TEST(GeometryImport, FaceSurfacesOfTheTbadKeptGiveTheSameModel) {
   // The tears are the holes of the flap, part of the interface given in Float64 VTP: their
   // measured areas (the fluid's section in the flap's mid-plane) equal the built model's
   // up to the rounding of the sums over the cut tets.
-  const Landmarks l = read_landmarks(dir.path / "out" / kLandmarksFile);
+  const Landmarks l = read_landmarks(dir.path / "out" / GeometryFiles::kLandmarks);
   for (const TearLandmark& t : l.tears)
     EXPECT_NEAR(tear_area(back, t), tear_area(m.mesh, t), 1e-9 * t.area) << t.name;
 }
@@ -318,7 +319,7 @@ TEST(GeometryImport, SimVascularMeshSurfacesAreMeshedWithAWall) {
   o.rename_faces = {
       {"lumen_inlet", "inlet"}, {"lumen_outlet", "outlet"}, {"lumen_wall", "interface"}};
   import_geometry(o, dir.path / "out");
-  const mesh::Mesh m = read_fsi_mesh(dir.path / "out" / kMeshFile, 1e-3);
+  const mesh::Mesh m = read_fsi_mesh(dir.path / "out" / GeometryFiles::kMesh, 1e-3);
   EXPECT_FALSE(m.has_face("wall_inner"));
   for (const char* face :
        {"inlet", "outlet", "interface", "wall_inlet", "wall_outlet", "wall_outer"})

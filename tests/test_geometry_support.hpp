@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "core/file_layout.hpp"
 #include "geometry/fsi_mesh.hpp"
 #include "geometry/landmarks.hpp"
 #include "geometry/tbad_builder.hpp"
@@ -49,14 +50,15 @@ inline CachedModel cached_tbad(const std::string& variant, double element_size,
   const fs::path dir =
       fs::temp_directory_path() / fmt::format("tearflow-geometry-test-{}-{}-{:.2f}-n{}", stamp,
                                               variant, element_size * 1e3, spec.lumen_elements);
-  if (!fs::is_regular_file(dir / kLandmarksFile, ec)) {
+  if (!fs::is_regular_file(dir / GeometryFiles::kLandmarks, ec)) {
     const fs::path mine = dir.string() + fmt::format(".tmp{}", ::getpid());
     build_tbad(spec, mine);
     fs::rename(mine, dir, ec); // fails if another process won: use theirs
     if (ec)
       fs::remove_all(mine, ec);
   }
-  return {read_fsi_mesh(dir / kMeshFile, 1e-3), read_landmarks(dir / kLandmarksFile), dir};
+  return {read_fsi_mesh(dir / GeometryFiles::kMesh, 1e-3),
+          read_landmarks(dir / GeometryFiles::kLandmarks), dir};
 }
 
 } // namespace tearflow::geometry::testing

@@ -14,6 +14,7 @@
 
 #include "cli_support.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "geometry/fsi_mesh.hpp"
 #include "geometry/sections.hpp"
 #include "geometry/tbad_model.hpp"
@@ -319,7 +320,8 @@ TEST(TbadGeometry, TearTooLargeForTheFlapIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("entry tear area 600.0 mm^2 is larger than the flap can hold"));
   }
-  EXPECT_FALSE(fs::exists(fs::temp_directory_path() / "tearflow-test-never-built" / kMeshFile));
+  EXPECT_FALSE(
+      fs::exists(fs::temp_directory_path() / "tearflow-test-never-built" / GeometryFiles::kMesh));
 }
 
 // Issue 28: `--element-size nan` meshed at the default 3 mm without a word; a size below 1.5

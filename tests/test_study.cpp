@@ -112,6 +112,13 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
       EXPECT_TRUE(fs::exists(out / v / file)) << v << "/" << file;
   EXPECT_TRUE(fs::exists(out / "report.html"));
   const json summary = read_json(out / "summary.json");
+  // Every metric of each variant's analysis is in the summary as the analysis wrote it.
+  for (const char* v : {"OR", "EN"}) {
+    const json metrics = read_json(out / v / "run/analysis/metrics.json");
+    ASSERT_TRUE(metrics.is_object() && summary["variants"].contains(v)) << v;
+    for (const auto& [key, value] : metrics.items())
+      EXPECT_EQ(summary["variants"][v].value(key, json()), value) << v << ": " << key;
+  }
 
   // The variants differ in their entry tear: 228 and 62 mm^2 requested, measured on each
   // variant's mesh (the hole in the flap's mid-plane) within the 3 % of the geometry's

@@ -4,8 +4,11 @@
 // a stand-in for the 3D domain that is known exactly (the 3D form: `tearflow verify tuning`).
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <functional>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include "bc/aortic_inflow.hpp"
 #include "core/error.hpp"
@@ -13,6 +16,7 @@
 #include "io/case.hpp"
 #include "tuning/outlet_tuning.hpp"
 #include "tuning/targets.hpp"
+#include "tuning/tuned_case.hpp"
 #include "tuning/windkessel_fit.hpp"
 
 using namespace tearflow;
@@ -268,4 +272,44 @@ TEST(TuningStage2, DomainCorrectionNeedsNoMoreRunsThanRescalingTheAims) {
   EXPECT_LE(domain.steps.back().iteration, aims.steps.back().iteration);
   // The shared series resistance it measured: h0 plus the branches' flow-weighted share.
   EXPECT_GT(domain.steps.back().domain.series, kDomain.h0);
+}
+
+// A tuned case written into another folder names the same files as the case it came from:
+// every path key (mesh.file and mesh.wall_file, the fluid's and the wall's waveform files),
+// relative ones rewritten, absolute ones kept (issue 24: mesh.wall_file and the wall's load
+// files were left as written, so the copy lost them).
+TEST(TunedCase, ACopyInAnotherFolderNamesTheSameFiles) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / "tearflow-tuned-case-paths";
+  fs::remove_all(root);
+  const fs::path from = root / "cases", to = root / "runs" / "OR" / "run";
+  fs::create_directories(from);
+  fs::create_directories(to);
+  const std::string text = R"(name: paths
+mesh: {file: meshes/lumen, wall_file: ../shared/wall, units: mm}
+boundary_conditions:
+  - {face: inlet, type: inflow, flow: {file: flow.csv, units: mL/s}}
+  - {face: outlet, type: pressure, pressure: {file: /data/p.csv}}
+solid:
+  boundary_conditions:
+    - {face: outer, type: pressure, pressure: {file: loads/outer.csv}}
+)";
+  std::ofstream(from / "case.yaml") << text;
+  const YAML::Node written =
+      YAML::Load(tuning::tuned_yaml(from / "case.yaml", io::Case{}, to / "tuned.yaml", ""));
+  const YAML::Node original = YAML::Load(text);
+  auto named = [](const fs::path& dir, const YAML::Node& n) {
+    const fs::path p = n.as<std::string>();
+    return (p.is_absolute() ? p : dir / p).lexically_normal();
+  };
+  const std::vector<std::function<YAML::Node(const YAML::Node&)>> keys = {
+      [](const YAML::Node& r) { return r["mesh"]["file"]; },
+      [](const YAML::Node& r) { return r["mesh"]["wall_file"]; },
+      [](const YAML::Node& r) { return r["boundary_conditions"][0]["flow"]["file"]; },
+      [](const YAML::Node& r) { return r["boundary_conditions"][1]["pressure"]["file"]; },
+      [](const YAML::Node& r) { return r["solid"]["boundary_conditions"][0]["pressure"]["file"]; }};
+  for (size_t k = 0; k < keys.size(); ++k)
+    EXPECT_EQ(named(to, keys[k](written)), named(from, keys[k](original))) << "key " << k;
+  EXPECT_EQ(keys[3](written).as<std::string>(), "/data/p.csv"); // absolute: as written
+  fs::remove_all(root);
 }

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "analysis/cycle_summary.hpp"
 #include "bc/windkessel_network.hpp"
 #include "core/error.hpp"
+#include "run/cycle_summary.hpp"
 
 using namespace tearflow;
 
@@ -110,7 +110,7 @@ TEST(WindkesselNetwork, RejectsBadBranches) {
 
 TEST(CycleSummary, StatisticsOfAKnownCycle) {
   // P = 100 + 20 sin(2 pi t), Q_a = 2 (1 + sin), Q_b = 1 + sin over one cycle of 400 steps.
-  analysis::CycleSamples c;
+  run::CycleSamples c;
   c.faces = {{"a", true, {}, {}, {}}, {"b", true, {}, {}, {}}, {"inlet", false, {}, {}, {}}};
   const int n = 400;
   for (int k = 0; k <= n; ++k) {
@@ -124,7 +124,7 @@ TEST(CycleSummary, StatisticsOfAKnownCycle) {
       f.reversed.push_back(0.0);
     }
   }
-  const analysis::CycleStats st = analysis::summarize_cycle(c);
+  const run::CycleStats st = run::summarize_cycle(c);
   // The trapezoidal rule integrates a full period of a sinusoid exactly; the sampled maximum
   // is within 20 (1 - cos(pi / n)) ~ 6e-4 of the true one at n = 400.
   EXPECT_NEAR(st.faces[0].mean, 100.0, 1e-9);
@@ -136,22 +136,21 @@ TEST(CycleSummary, StatisticsOfAKnownCycle) {
   EXPECT_FALSE(st.faces[2].split_percent.has_value());
 
   // A 1 % larger pressure in the next cycle is a change of 1 / 1.2 % of its peak.
-  analysis::CycleSamples next = c;
+  run::CycleSamples next = c;
   for (auto& f : next.faces)
     for (double& p : f.pressure)
       p *= 1.01;
-  EXPECT_NEAR(analysis::cycle_change(c, next), 0.01 * 120.0 / (1.01 * 120.0), 1e-3 * 0.01);
-  EXPECT_EQ(analysis::cycle_change(c, c), 0.0);
+  EXPECT_NEAR(run::cycle_change(c, next), 0.01 * 120.0 / (1.01 * 120.0), 1e-3 * 0.01);
+  EXPECT_EQ(run::cycle_change(c, c), 0.0);
 
   // By the cycle's numbers: the inlet's pressures 1 % larger (each of systolic, diastolic
   // and mean: a change of 0.01 / 1.01); then outlet a's flow 10 % larger, which moves its
   // split from 66.67 % to 68.75 % (2.08 points: 0.0208) and outweighs the pressures.
-  const analysis::CycleStats pressures = analysis::summarize_cycle(next);
-  EXPECT_NEAR(analysis::metrics_change(st, pressures), 0.01 / 1.01, 1e-9);
-  analysis::CycleSamples more = c;
+  const run::CycleStats pressures = run::summarize_cycle(next);
+  EXPECT_NEAR(run::metrics_change(st, pressures), 0.01 / 1.01, 1e-9);
+  run::CycleSamples more = c;
   for (double& q : more.faces[0].flow)
     q *= 1.1;
-  EXPECT_NEAR(analysis::metrics_change(st, analysis::summarize_cycle(more)),
-              (2.2 / 3.2 - 2.0 / 3.0), 1e-9);
-  EXPECT_EQ(analysis::metrics_change(st, st), 0.0);
+  EXPECT_NEAR(run::metrics_change(st, run::summarize_cycle(more)), (2.2 / 3.2 - 2.0 / 3.0), 1e-9);
+  EXPECT_EQ(run::metrics_change(st, st), 0.0);
 }

@@ -6,10 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#include "verify/womersley_exact.hpp"
+#include "bc/womersley_exact.hpp"
 
 using namespace tearflow;
-using namespace tearflow::verify;
+using namespace tearflow::bc;
 using cplx = std::complex<double>;
 
 namespace {

@@ -4,6 +4,7 @@
 
 #include "analysis/hemodynamics.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "core/units.hpp"
 
 namespace tearflow::analysis {
@@ -41,7 +42,7 @@ int AnalyzeCommand::run() const {
   o.case_file = case_file_;
   if (o.all_frames && o.cycle)
     input_error("analyze: --cycle and --frames all exclude each other");
-  o.output = output_.empty() ? o.run_dir / "analysis" : std::filesystem::path(output_);
+  o.output = output_.empty() ? RunFiles{o.run_dir}.analysis_dir() : std::filesystem::path(output_);
   const Analysis a = analyze_run(o);
   write_analysis(a, o.output);
   if (!quiet_) {

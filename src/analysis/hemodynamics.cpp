@@ -12,6 +12,7 @@
 #include "analysis/measured_data.hpp"
 #include "analysis/run_form.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "core/units.hpp"
 #include "io/vtu_series.hpp"
 
@@ -130,12 +131,12 @@ const LandmarkSeries* Analysis::find(const std::string& name) const {
 }
 
 std::vector<FlowFrame> select_frames(const AnalyzeOptions& o, std::string& label, json* cycle) {
-  std::vector<FlowFrame> frames = read_pvd(o.run_dir / "flow.pvd");
+  std::vector<FlowFrame> frames = read_pvd(RunFiles{o.run_dir}.flow_pvd());
   if (o.all_frames) {
     label = "all saved frames";
     return frames;
   }
-  const std::filesystem::path file = o.run_dir / "cycles.json";
+  const std::filesystem::path file = RunFiles{o.run_dir}.cycles_json();
   std::ifstream in(file);
   if (!in)
     input_error("'{}' does not exist: the run has no complete cardiac cycle (or no period); "
@@ -178,7 +179,7 @@ std::vector<FlowFrame> select_frames(const AnalyzeOptions& o, std::string& label
 }
 
 Analysis analyze_run(const AnalyzeOptions& o) {
-  if (!std::filesystem::exists(o.run_dir / "flow.pvd")) {
+  if (!std::filesystem::exists(RunFiles{o.run_dir}.flow_pvd())) {
     if (!is_measurement_folder(o.run_dir))
       input_error("'{}' holds neither a run's output (flow.pvd) nor a measurement table "
                   "(flow.csv, area.csv, pressure.csv; docs/analysis.md)",
@@ -189,7 +190,7 @@ Analysis analyze_run(const AnalyzeOptions& o) {
     return read_measured(o.run_dir);
   }
   const std::filesystem::path landmarks_file =
-      o.landmarks.empty() ? o.run_dir / "geometry" / "landmarks.json" : o.landmarks;
+      o.landmarks.empty() ? RunFiles{o.run_dir}.geometry().landmarks() : o.landmarks;
   const geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_file);
   Analysis a;
   const std::vector<FlowFrame> frames = select_frames(o, a.frames, &a.cycle);
@@ -200,7 +201,7 @@ Analysis analyze_run(const AnalyzeOptions& o) {
   std::optional<ContinuityForm> form = find_continuity_form(o.run_dir, o.case_file);
   a.flow_method = form ? "conservative" : "plane_integral";
   const std::vector<double> steps = form ? step_times(o.run_dir) : std::vector<double>{};
-  const std::vector<FlowFrame> saved = read_pvd(o.run_dir / "flow.pvd");
+  const std::vector<FlowFrame> saved = read_pvd(RunFiles{o.run_dir}.flow_pvd());
   std::map<std::filesystem::path, vtkSmartPointer<vtkUnstructuredGrid>> read;
   auto frame = [&](std::size_t i) {
     auto& grid = read[saved[i].file];
@@ -418,7 +419,7 @@ json metrics_json(const Analysis& a) {
 
 void write_analysis(const Analysis& a, const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
-  io::write_file_atomically(dir / "metrics.json", metrics_json(a).dump(2) + "\n");
+  io::write_file_atomically(dir / RunFiles::kMetrics, metrics_json(a).dump(2) + "\n");
   for (const LandmarkSeries& s : a.series) {
     std::string csv = "time_s,flow_m3_per_s,flow_mL_per_s,area_m2,area_mm2,area_over_A_0,"
                       "mean_pressure_Pa,mean_pressure_mmHg,max_through_plane_velocity_m_per_s,"

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "io/case.hpp"
 
 namespace tearflow::analysis {
@@ -51,7 +52,7 @@ std::optional<ContinuityForm> find_continuity_form(const std::filesystem::path& 
 }
 
 std::vector<double> step_times(const std::filesystem::path& run_dir) {
-  std::ifstream in(run_dir / "faces.csv");
+  std::ifstream in(RunFiles{run_dir}.faces_csv());
   std::string line;
   if (!in || !std::getline(in, line) || line.rfind("step,time_s,", 0) != 0)
     return {};

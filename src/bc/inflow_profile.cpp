@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "bc/womersley_exact.hpp"
 #include "core/error.hpp"
-#include "verify/womersley_exact.hpp"
 
 namespace tearflow::bc {
 
@@ -34,8 +34,8 @@ InflowProfile::InflowProfile(const mesh::Mesh& mesh, const mesh::Face& face, Wav
     }
   }
   if (shape == ProfileShape::Womersley)
-    womersley_ = std::make_unique<verify::WomersleyFlow>(
-        verify::womersley_from_waveform(flow_, modes, radius_, density, viscosity));
+    womersley_ = std::make_unique<bc::WomersleyFlow>(
+        bc::womersley_from_waveform(flow_, modes, radius_, density, viscosity));
 }
 
 InflowProfile::~InflowProfile() = default;

@@ -12,11 +12,9 @@
 #include "bc/face_geometry.hpp"
 #include "bc/waveform.hpp"
 
-namespace tearflow::verify {
-struct WomersleyFlow;
-}
-
 namespace tearflow::bc {
+
+struct WomersleyFlow;
 
 enum class ProfileShape { Parabolic, Plug, Womersley };
 
@@ -42,7 +40,7 @@ private:
   std::vector<double> shape_value_; ///< s at each node
   double shape_integral_ = 0.0;     ///< int_face s dA [m^2]
   double radius_ = 0.0;             ///< R [m]
-  std::unique_ptr<verify::WomersleyFlow> womersley_;
+  std::unique_ptr<WomersleyFlow> womersley_;
 };
 
 } // namespace tearflow::bc

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "core/units.hpp"
 #include "geometry/geometry_report.hpp"
 #include "geometry/import.hpp"
@@ -230,9 +231,8 @@ int GeometryCommand::run() const {
                "{} wall tets; CAD {:.1f} s, meshing {:.1f} s\nwrote {} and {}\n",
                o.variant, spec.entry_tear.area / mm2, spec.exit_tear.area / mm2,
                spec.element_size / mm, b.mesh.num_nodes(), fluid, b.mesh.tets.size() - fluid,
-               b.cad_seconds, b.mesh_seconds,
-               (std::filesystem::path(o.output) / kMeshFile).string(),
-               (std::filesystem::path(o.output) / kLandmarksFile).string());
+               b.cad_seconds, b.mesh_seconds, GeometryFiles{o.output}.mesh().string(),
+               GeometryFiles{o.output}.landmarks().string());
     return 0;
   }
   if (import_->parsed()) {
@@ -254,8 +254,8 @@ int GeometryCommand::run() const {
     io.verbose = o.verbose;
     io.remesh_surfaces = !o.keep_surfaces;
     import_geometry(io, o.output);
-    fmt::print("wrote {} and {}\n", (std::filesystem::path(o.output) / kMeshFile).string(),
-               (std::filesystem::path(o.output) / kLandmarksFile).string());
+    fmt::print("wrote {} and {}\n", GeometryFiles{o.output}.mesh().string(),
+               GeometryFiles{o.output}.landmarks().string());
     return 0;
   }
   const std::filesystem::path dir = o.dir;

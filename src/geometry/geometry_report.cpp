@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "geometry/sections.hpp"
 #include "geometry/tbad_builder.hpp"
 
@@ -139,8 +140,8 @@ std::string report_json(const GeometryReport& r) {
 
 GeometryReport report_geometry(const std::filesystem::path& dir, const std::filesystem::path& png,
                                bool print) {
-  const mesh::Mesh mesh = read_fsi_mesh(dir / kMeshFile, 1e-3);
-  const Landmarks landmarks = read_landmarks(dir / kLandmarksFile);
+  const mesh::Mesh mesh = read_fsi_mesh(GeometryFiles{dir}.mesh(), 1e-3);
+  const Landmarks landmarks = read_landmarks(GeometryFiles{dir}.landmarks());
   const GeometryReport r = measure_geometry(mesh, landmarks);
   if (print)
     fmt::print("{}", format_report(r));

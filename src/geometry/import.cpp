@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "geometry/fsi_mesh.hpp"
 #include "geometry/landmarks.hpp"
 #include "geometry/sections.hpp"
@@ -230,8 +231,8 @@ void import_geometry(const ImportOptions& o, const fs::path& dir) {
   fs::create_directories(dir, ec);
   if (ec)
     input_error("import: cannot create '{}': {}", dir.string(), ec.message());
-  write_msh(m, dir / kMeshFile);
-  write_landmarks(landmarks, dir / kLandmarksFile, "mm");
+  write_msh(m, GeometryFiles{dir}.mesh());
+  write_landmarks(landmarks, GeometryFiles{dir}.landmarks(), "mm");
 }
 
 } // namespace tearflow::geometry

@@ -20,6 +20,7 @@
 #include <gmsh.h>
 
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "geometry/fsi_mesh.hpp"
 #include "geometry/lumen_sizing.hpp"
 #include "geometry/tbad_model.hpp"
@@ -356,7 +357,7 @@ TbadBuild build_tbad(const TbadSpec& spec, const std::filesystem::path& dir, boo
   std::filesystem::create_directories(dir, ec);
   if (ec)
     input_error("tbad: cannot create output directory '{}': {}", dir.string(), ec.message());
-  const std::filesystem::path msh = dir / kMeshFile;
+  const std::filesystem::path msh = GeometryFiles{dir}.mesh();
   const std::string source =
       fmt::format("parametric TBAD (element size {} mm)", spec.element_size * kMm);
   TbadBuild build;
@@ -418,7 +419,7 @@ TbadBuild build_tbad(const TbadSpec& spec, const std::filesystem::path& dir, boo
   mesh::drop_unused_nodes(build.mesh);
   check_fsi_mesh(build.mesh);
   build.landmarks = tbad_landmarks(model);
-  write_landmarks(build.landmarks, dir / kLandmarksFile, "mm");
+  write_landmarks(build.landmarks, GeometryFiles{dir}.landmarks(), "mm");
   return build;
 }
 

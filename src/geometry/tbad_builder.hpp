@@ -10,10 +10,6 @@
 
 namespace tearflow::geometry {
 
-/// The mesh file's name in a geometry directory.
-inline constexpr const char* kMeshFile = "mesh.msh";
-inline constexpr const char* kLandmarksFile = "landmarks.json";
-
 struct TbadBuild {
   mesh::Mesh mesh; ///< SI units, as written
   Landmarks landmarks;

@@ -212,9 +212,9 @@ void resolve_period(Case& c, const YamlValue& time_node, const YamlValue& bcs_no
   c.time.steps = static_cast<int>(steps);
 }
 
-NewtonSpec read_newton(const YamlValue& v) {
+physics::NewtonSpec read_newton(const YamlValue& v) {
   v.check_keys({"max_iterations", "rtol", "atol"});
-  NewtonSpec newton;
+  physics::NewtonSpec newton;
   if (auto x = v.get("max_iterations"))
     newton.max_iterations = x->integer(1);
   if (auto x = v.get("rtol"))

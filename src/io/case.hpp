@@ -13,6 +13,7 @@
 #include "io/case_solid.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pipe_generator.hpp"
+#include "physics/newton_spec.hpp"
 
 namespace tearflow::io {
 
@@ -45,7 +46,7 @@ struct TimeSpec {
   int steps_per_cycle = 0; ///< period / step when the period is a multiple of the step
   /// Stop once the cycle-to-cycle change is below this (0: run all steps).
   double periodicity_tolerance = 0.0;
-  /// What that change measures (analysis/cycle_summary.hpp): every outlet's flow and pressure
+  /// What that change measures (run/cycle_summary.hpp): every outlet's flow and pressure
   /// waveform sample by sample, or the cycle's numbers (inlet pressures, outlet splits).
   enum class Periodicity {
     waveforms,
@@ -78,12 +79,6 @@ struct BoundaryCondition {
   double backflow_beta = 0.2;
 };
 
-struct NewtonSpec {
-  int max_iterations = 10;
-  double rtol = 1e-6;  ///< stop when ||R|| <= rtol ||R_0|| ...
-  double atol = 1e-10; ///< ... or ||R|| <= atol
-};
-
 struct OutputSpec {
   std::filesystem::path directory; ///< absolute; default `results/<name>` under the cwd
   int every = 10;                  ///< save a VTU every n steps (0: only the last)
@@ -98,7 +93,7 @@ struct Case {
   TimeSpec time;
   std::vector<BoundaryCondition> boundary_conditions;
   std::optional<SolidSpec> solid; ///< the wall; a solid-only case has no fluid conditions
-  NewtonSpec newton;
+  physics::NewtonSpec newton;
   std::string petsc_options; ///< passed to PETSc's options database as is
   OutputSpec output;
 };

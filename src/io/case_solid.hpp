@@ -8,7 +8,7 @@
 #include "bc/solid_conditions.hpp"
 #include "io/case_yaml.hpp"
 #include "mesh/mesh.hpp"
-#include "physics/solid_kernel.hpp"
+#include "physics/solid_material.hpp"
 
 namespace tearflow::io {
 

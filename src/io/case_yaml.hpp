@@ -13,14 +13,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "core/names.hpp"
+
 namespace tearflow::io {
-
-/// The closest candidate to `word` by edit distance (optimal string alignment, ignoring
-/// case), or "" when none is close enough to be a likely typo.
-std::string nearest_name(std::string_view word, const std::vector<std::string>& candidates);
-
-/// "a, b or c".
-std::string join_names(const std::vector<std::string>& names, std::string_view last = "or");
 
 /// `written` taken from `dir` unless absolute, normalized (for paths in a case file).
 std::filesystem::path resolve_path(const std::filesystem::path& dir, const std::string& written);

@@ -17,6 +17,7 @@
 
 #include "analysis/hemodynamics.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "core/units.hpp"
 #include "mri/alignment.hpp"
 #include "mri/compare.hpp"
@@ -163,9 +164,9 @@ int MriCommand::synthesize_from_run() const {
   const fs::path out = output_;
   const auto t1 = std::chrono::steady_clock::now();
   write_scan(data, out / "images");
-  const fs::path landmarks = fs::path(run_dir_) / "geometry" / "landmarks.json";
+  const fs::path landmarks = RunFiles{run_dir_}.geometry().landmarks();
   if (fs::exists(landmarks))
-    fs::copy_file(landmarks, out / "landmarks.json", fs::copy_options::overwrite_existing);
+    fs::copy_file(landmarks, GeometryFiles{out}.landmarks(), fs::copy_options::overwrite_existing);
   fmt::print("mri synthesize '{}': {} x {} x {} voxels of {} mm, {} frames, venc {} m/s, SNR "
              "{}\nsynthesis {:.2f} s, writing ({}) {:.2f} s; images{} in '{}'\n",
              run_dir_, data.grid.size[0], data.grid.size[1], data.grid.size[2], scan.voxel * 1e3,
@@ -238,7 +239,7 @@ int MriCommand::synthesize() const {
     l.point = l.origin;
     landmarks.planes.push_back(l);
   }
-  geometry::write_landmarks(landmarks, out / "landmarks.json");
+  geometry::write_landmarks(landmarks, GeometryFiles{out}.landmarks());
   // The exact flow (each frame's window mean) in the measured layout.
   fs::create_directories(out / "exact");
   std::ofstream exact(out / "exact" / "flow.csv");

@@ -20,6 +20,7 @@
 
 #include "analysis/landmark_sections.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 
 namespace tearflow::mri {
 
@@ -175,10 +176,10 @@ std::vector<Vec3> lumen_boundary_points(const Flow4D& data, double lumen_fractio
 vtkSmartPointer<vtkPolyData> read_model_surface(const std::filesystem::path& mesh_or_run) {
   std::filesystem::path vtu = mesh_or_run;
   if (std::filesystem::is_directory(mesh_or_run)) {
-    if (!std::filesystem::exists(mesh_or_run / "flow.pvd"))
+    if (!std::filesystem::exists(RunFiles{mesh_or_run}.flow_pvd()))
       input_error("--align-surface '{}': a run folder holds flow.pvd (or give a .vtu mesh)",
                   mesh_or_run.string());
-    vtu = analysis::read_pvd(mesh_or_run / "flow.pvd").front().file;
+    vtu = analysis::read_pvd(RunFiles{mesh_or_run}.flow_pvd()).front().file;
   } else if (mesh_or_run.extension() != ".vtu") {
     input_error("--align-surface '{}': expected a run folder (flow.pvd) or a .vtu mesh",
                 mesh_or_run.string());

@@ -25,7 +25,7 @@ struct Profile {
   static constexpr int kTable = 2048;
   double radius = 0.0;
   std::vector<double> u;
-  Profile(const verify::WomersleyFlow& flow, double t) : radius(flow.radius), u(kTable + 1) {
+  Profile(const bc::WomersleyFlow& flow, double t) : radius(flow.radius), u(kTable + 1) {
     for (int i = 0; i <= kTable; ++i)
       u[i] = flow.axial_velocity(radius * i / kTable, t);
   }
@@ -73,8 +73,8 @@ void add_scanner_effects(Flow4D& data, const ScannerEffects& e) {
   }
 }
 
-verify::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity, double swing) {
-  verify::WomersleyFlow f;
+bc::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity, double swing) {
+  bc::WomersleyFlow f;
   f.radius = radius, f.density = 1060, f.viscosity = 4e-3;
   f.omega = 2 * kPi / 0.8;
   const double q0 = mean_velocity * kPi * radius * radius;

@@ -1,6 +1,6 @@
 #pragma once
 // Synthetic 4D-flow MRI of an analytic field: the exact Womersley flow in a straight rigid
-// pipe (verify/womersley_exact.hpp) imaged on any oriented voxel grid, as a scanner would:
+// pipe (bc/womersley_exact.hpp) imaged on any oriented voxel grid, as a scanner would:
 //   - velocity:   each voxel holds the mean of u over the voxel (partial volume), from
 //                 n^3 sub-voxel samples, and over the frame's time window [t_k - dt/2,
 //                 t_k + dt/2], dt = period / frames, from n_t samples (midpoint rules);
@@ -14,13 +14,13 @@
 //   Qbar_k = Re sum_n q_n e^{i n w t_k} sinc(n w dt / 2).
 #include <cstdint>
 
+#include "bc/womersley_exact.hpp"
 #include "mri/flow_dataset.hpp"
-#include "verify/womersley_exact.hpp"
 
 namespace tearflow::mri {
 
 struct PipeScan {
-  verify::WomersleyFlow flow; ///< the exact flow: radius, modes, omega (> 0: pulsatile)
+  bc::WomersleyFlow flow;     ///< the exact flow: radius, modes, omega (> 0: pulsatile)
   Vec3 axis_point{};          ///< a point on the pipe axis [m] (patient LPS)
   Vec3 axis{0, 0, 1};         ///< flow direction (unit) along the axis
   double tissue_radius = 0.0; ///< static tissue out to this radius [m]; 0: 2 x pipe radius
@@ -39,8 +39,8 @@ struct PipeScan {
 /// 4 mPa s) at 75 beats per minute, Q(t) = Q0 (1 - swing cos wt + 0.1 sin 2wt) with
 /// Q0 = mean_velocity pi R^2: positive throughout for swing < 0.8, lowest near t = 0 (end
 /// diastole, the trigger), so that frame 0 is the least likely to alias.
-verify::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity = 0.35,
-                                          double swing = 0.3);
+bc::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity = 0.35,
+                                      double swing = 0.3);
 
 /// The scan; InputError for a non-pulsatile flow, no frames, venc <= 0 or an empty grid.
 Flow4D synthesize_pipe(const PipeScan& scan);

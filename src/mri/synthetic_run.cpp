@@ -16,6 +16,7 @@
 #include "analysis/hemodynamics.hpp"
 #include "analysis/landmark_sections.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 
 namespace tearflow::mri {
 
@@ -32,7 +33,7 @@ struct VoxelMeans {
 Flow4D synthesize_run(const RunScan& scan) {
   analysis::AnalyzeOptions o;
   o.run_dir = scan.run_dir;
-  o.all_frames = !std::filesystem::exists(scan.run_dir / "cycles.json");
+  o.all_frames = !std::filesystem::exists(RunFiles{scan.run_dir}.cycles_json());
   std::string label;
   const std::vector<analysis::FlowFrame> saved = analysis::select_frames(o, label);
   if (saved.size() < 2)

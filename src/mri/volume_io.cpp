@@ -116,7 +116,7 @@ std::pair<std::uint64_t, std::uint64_t> meta_bytes(const fs::path& file, std::ui
 /// reads such a file without an error, the missing voxels left as they happen to be.
 void check_complete(const fs::path& file, const std::string& ext, std::uint64_t image_bytes) {
   const auto [present, needed] = ext == ".mha" || ext == ".mhd" ? meta_bytes(file, image_bytes)
-                                                                 : nifti_bytes(file, image_bytes);
+                                                                : nifti_bytes(file, image_bytes);
   if (present < needed)
     input_error("'{}': cut short: {} bytes where its header announces {} (a truncated copy?)",
                 file.string(), present, needed);

@@ -29,7 +29,7 @@ fem::OptionList FluidProblem::default_solver_options() {
 }
 
 template <typename Problem>
-NewtonStepper<Problem>::NewtonStepper(Problem& problem, const io::NewtonSpec& newton)
+NewtonStepper<Problem>::NewtonStepper(Problem& problem, const physics::NewtonSpec& newton)
     : problem_(problem) {
   const fem::DofMap& dofs = problem.dofs();
   U_ = dofs.create_global();

@@ -6,9 +6,9 @@
 #include <array>
 #include <string>
 
-#include "io/case.hpp"
 #include "physics/callback_error.hpp"
 #include "physics/fluid_problem.hpp"
+#include "physics/newton_spec.hpp"
 #include "physics/step_report.hpp"
 
 namespace tearflow::physics {
@@ -18,7 +18,7 @@ namespace tearflow::physics {
 /// update_acceleration, commit_step, options_prefix and default_solver_options.
 template <typename Problem> class NewtonStepper {
 public:
-  NewtonStepper(Problem& problem, const io::NewtonSpec& newton);
+  NewtonStepper(Problem& problem, const physics::NewtonSpec& newton);
 
   /// Starts from rest (U = 0, Udot = 0) unless the caller overwrites state().
   Vec solution() const { return U_; } ///< (u, p) at the current time

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "bc/face_geometry.hpp"
-#include "io/case_yaml.hpp"
+#include "core/names.hpp"
 
 namespace tearflow::physics {
 
@@ -20,7 +20,7 @@ size_t face_index(const fem::DistributedMesh& dmesh, const std::string& name, co
   for (const auto& f : faces)
     names.push_back(f.name);
   input_error("{} on face '{}': the mesh has no such face; its faces are {}", what, name,
-              io::join_names(names, "and"));
+              join_names(names, "and"));
 }
 
 double triangle_area(const std::vector<Vec3>& x, const Tri& t) {

@@ -39,7 +39,8 @@ bool option_set(const char* name) {
 }
 } // namespace
 
-SolidSolver::SolidSolver(SolidProblem& problem, const io::NewtonSpec& newton) : problem_(problem) {
+SolidSolver::SolidSolver(SolidProblem& problem, const physics::NewtonSpec& newton)
+    : problem_(problem) {
   const fem::DofMap& dofs = problem.dofs();
   U_ = dofs.create_global();
   D_ = dofs.create_global();

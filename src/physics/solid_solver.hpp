@@ -9,15 +9,15 @@
 #include <array>
 #include <string>
 
-#include "io/case.hpp"
 #include "physics/fluid_solver.hpp"
+#include "physics/newton_spec.hpp"
 #include "physics/solid_problem.hpp"
 
 namespace tearflow::physics {
 
 class SolidSolver {
 public:
-  SolidSolver(SolidProblem& problem, const io::NewtonSpec& newton);
+  SolidSolver(SolidProblem& problem, const physics::NewtonSpec& newton);
 
   /// The state at the current time; starts at rest in the reference configuration.
   Vec solution() const { return U_; }     ///< (v, p)

@@ -3,6 +3,8 @@
 // Windkessel outlets (../shared/reference/tbad-study.md).
 #include "run/default_case.hpp"
 
+#include "core/file_layout.hpp"
+
 #include <filesystem>
 
 #include <mpi.h>
@@ -41,7 +43,7 @@ io::Case default_case() {
     if (fem::mpi_rank() == 0)
       geometry::build_tbad(geometry::TbadSpec{}, geometry_dir);
     MPI_Barrier(PETSC_COMM_WORLD);
-    return mesh::read_mesh(geometry_dir / geometry::kMeshFile, 1e-3);
+    return mesh::read_mesh(GeometryFiles{geometry_dir}.mesh(), 1e-3);
   };
   c.mesh.region = "fluid";
   c.fluid = {1100.0, 0.0042}; // the study's blood-mimicking fluid

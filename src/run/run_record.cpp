@@ -15,7 +15,7 @@ RunRecord::RunRecord(std::vector<std::string> outlets, int steps_per_cycle, doub
     : outlets_(std::move(outlets)), steps_per_cycle_(steps_per_cycle), period_(period),
       by_metrics_(by_metrics) {}
 
-std::optional<analysis::CycleStats> RunRecord::add(StepSample sample) {
+std::optional<run::CycleStats> RunRecord::add(StepSample sample) {
   const int step = sample.step;
   samples_.push_back(std::move(sample));
   const int n = steps_per_cycle_;
@@ -27,24 +27,23 @@ std::optional<analysis::CycleStats> RunRecord::add(StepSample sample) {
   if (samples_.size() < static_cast<size_t>(n + 1) ||
       samples_[samples_.size() - n - 1].step != step - n)
     return std::nullopt;
-  const analysis::CycleSamples current = cycle_samples(cycle);
-  analysis::CycleStats stats = analysis::summarize_cycle(current);
+  const run::CycleSamples current = cycle_samples(cycle);
+  run::CycleStats stats = run::summarize_cycle(current);
   if (samples_.size() >= static_cast<size_t>(2 * n + 1) &&
       samples_[samples_.size() - 2 * n - 1].step == step - 2 * n)
-    stats.change =
-        by_metrics_
-            ? analysis::metrics_change(analysis::summarize_cycle(cycle_samples(cycle - 1)), stats)
-            : analysis::cycle_change(cycle_samples(cycle - 1), current);
+    stats.change = by_metrics_
+                       ? run::metrics_change(run::summarize_cycle(cycle_samples(cycle - 1)), stats)
+                       : run::cycle_change(cycle_samples(cycle - 1), current);
   cycles_.push_back(stats);
   return stats;
 }
 
-analysis::CycleSamples RunRecord::cycle_samples(int cycle) const {
+run::CycleSamples RunRecord::cycle_samples(int cycle) const {
   const int n = steps_per_cycle_;
   const int first = cycle * n;
   const auto begin = std::find_if(samples_.begin(), samples_.end(),
                                   [&](const StepSample& s) { return s.step == first; });
-  analysis::CycleSamples c;
+  run::CycleSamples c;
   c.cycle = cycle;
   for (size_t f = 0; f < begin->faces.size(); ++f) {
     const std::string& name = begin->faces[f].measure.face;

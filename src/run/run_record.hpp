@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/cycle_summary.hpp"
 #include "physics/fluid_problem.hpp"
+#include "run/cycle_summary.hpp"
 
 namespace tearflow::run {
 
@@ -39,7 +39,7 @@ public:
 
   /// Appends the samples of one step (steps in increasing order). Returns the statistics of
   /// the cycle this step completes, if it completes one.
-  std::optional<analysis::CycleStats> add(StepSample sample);
+  std::optional<run::CycleStats> add(StepSample sample);
 
   /// Reads faces.csv of an earlier run up to and including `last_step` (a restart), and
   /// rebuilds the statistics of its complete cycles. InputError naming the file and line on
@@ -50,19 +50,19 @@ public:
   /// The faces.csv rows of one step (no header).
   static std::string csv_rows(const StepSample& sample);
   const std::vector<StepSample>& samples() const { return samples_; }
-  const std::vector<analysis::CycleStats>& cycles() const { return cycles_; }
-  nlohmann::json cycles_json() const { return analysis::cycles_to_json(period_, cycles_); }
+  const std::vector<run::CycleStats>& cycles() const { return cycles_; }
+  nlohmann::json cycles_json() const { return run::cycles_to_json(period_, cycles_); }
   int steps_per_cycle() const { return steps_per_cycle_; }
 
 private:
-  analysis::CycleSamples cycle_samples(int cycle) const;
+  run::CycleSamples cycle_samples(int cycle) const;
 
   std::vector<std::string> outlets_;
   int steps_per_cycle_ = 0;
   double period_ = 0.0;
   bool by_metrics_ = false;
   std::vector<StepSample> samples_;
-  std::vector<analysis::CycleStats> cycles_;
+  std::vector<run::CycleStats> cycles_;
 };
 
 } // namespace tearflow::run

@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "core/file_layout.hpp"
+#include "core/names.hpp"
 #include "core/units.hpp"
 #include "fem/node_transfer.hpp"
 #include "io/checkpoint.hpp"
@@ -35,7 +37,7 @@ mesh::Mesh load_mesh(const io::Case& c) {
         input_error("{}: a fluid-structure case needs volume regions 'fluid' and 'wall'; the "
                     "mesh{} has {}",
                     c.file.string(), m.source.empty() ? "" : " " + m.source,
-                    io::join_names(m.regions, "and"));
+                    join_names(m.regions, "and"));
     mesh::orient_faces_outward(m);
     io::check_case_against_mesh(c, m);
     io::check_solid_against_mesh(*c.solid, m, c.file.string());
@@ -368,9 +370,9 @@ RunSummary Simulation::run(const RunOptions& options) {
   const bool root = fem::mpi_rank(dmesh_->comm()) == 0;
   output_ = std::make_unique<Output>();
   output_->dir = case_.output.directory;
-  const std::filesystem::path checkpoint_file = output_->dir / "checkpoint.bin";
-  const std::filesystem::path faces_csv = output_->dir / "faces.csv";
-  const std::filesystem::path cycles_json = output_->dir / "cycles.json";
+  const std::filesystem::path checkpoint_file = RunFiles{output_->dir}.checkpoint();
+  const std::filesystem::path faces_csv = RunFiles{output_->dir}.faces_csv();
+  const std::filesystem::path cycles_json = RunFiles{output_->dir}.cycles_json();
   if (root && options.write_output) {
     std::filesystem::create_directories(output_->dir);
     output_->series = std::make_unique<io::VtuSeries>(mesh_, output_->dir, "flow");
@@ -468,7 +470,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     }
     summary.reports.push_back(r);
     ++summary.steps;
-    std::optional<analysis::CycleStats> cycle = record.add(sample());
+    std::optional<run::CycleStats> cycle = record.add(sample());
     if (root && options.write_output) // a killed run keeps every step it finished
       io::append_to_file(faces_csv, RunRecord::csv_rows(record.samples().back()));
     if (cycle) {
@@ -520,9 +522,9 @@ RunSummary Simulation::run(const RunOptions& options) {
   return summary;
 }
 
-void Simulation::report_cycle(const analysis::CycleStats& c, bool periodic) const {
+void Simulation::report_cycle(const run::CycleStats& c, bool periodic) const {
   std::string faces;
-  for (const analysis::FaceCycleStats& f : c.faces) {
+  for (const run::FaceCycleStats& f : c.faces) {
     if (!f.split_percent)
       continue;
     faces +=

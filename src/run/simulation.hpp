@@ -28,15 +28,15 @@ struct RunOptions {
   /// Called at the end of every cycle with its statistics and whether it is periodic by the
   /// case's tolerance, before the cycle's last frame and checkpoint are written; returns
   /// whether the run stops there. Without it the run stops when periodic.
-  std::function<bool(const analysis::CycleStats&, bool periodic)> on_cycle;
+  std::function<bool(const run::CycleStats&, bool periodic)> on_cycle;
 };
 
 struct RunSummary {
   int steps = 0; ///< steps taken by this call
   double wall_seconds = 0.0;
   std::vector<physics::StepReport> reports;
-  bool periodic = false;                    ///< stopped by the periodicity tolerance
-  std::vector<analysis::CycleStats> cycles; ///< every complete cycle of the run
+  bool periodic = false;               ///< stopped by the periodicity tolerance
+  std::vector<run::CycleStats> cycles; ///< every complete cycle of the run
 };
 
 /// The case's mesh in SI units with outward-oriented faces, checked against the case.
@@ -81,7 +81,7 @@ private:
   /// The wall in quasi-static equilibrium with the fluid pressure p0 (FSI start).
   void load_wall(double p0);
   void write_frame();
-  void report_cycle(const analysis::CycleStats& c, bool periodic) const;
+  void report_cycle(const run::CycleStats& c, bool periodic) const;
   /// The checkpoint `c` of options.start_case's run, on its mesh, checked and interpolated
   /// to this mesh in place; returns the first step.
   int take_state_of_mesh(io::Checkpoint& c, const RunOptions& options) const;

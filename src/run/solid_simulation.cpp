@@ -1,5 +1,7 @@
 #include "run/solid_simulation.hpp"
 
+#include "core/file_layout.hpp"
+
 #include <fstream>
 
 #include <fmt/format.h>
@@ -123,8 +125,8 @@ RunSummary SolidSimulation::run(const RunOptions& options) {
   const bool root = fem::mpi_rank(dmesh_->comm()) == 0;
   output_ = std::make_unique<Output>();
   output_->dir = case_.output.directory;
-  const std::filesystem::path checkpoint_file = output_->dir / "checkpoint.bin";
-  const std::filesystem::path faces_csv = output_->dir / "faces.csv";
+  const std::filesystem::path checkpoint_file = RunFiles{output_->dir}.checkpoint();
+  const std::filesystem::path faces_csv = RunFiles{output_->dir}.faces_csv();
   const std::string faces_header = "step,time_s,face,mean_ux_m,mean_uy_m,mean_uz_m,area_m2";
   if (root && options.write_output) {
     std::filesystem::create_directories(output_->dir);

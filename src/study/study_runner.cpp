@@ -9,9 +9,11 @@
 #include <yaml-cpp/yaml.h>
 
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "core/units.hpp"
 #include "geometry/landmarks.hpp"
 #include "geometry/sections.hpp"
+#include "io/case_edit.hpp"
 #include "io/case_yaml.hpp"
 #include "io/vtu_series.hpp"
 #include "mesh/readers.hpp"
@@ -53,13 +55,6 @@ json read_json(const std::filesystem::path& file) {
   }
 }
 
-/// A path written in the template case, made absolute so that the variant's case, written
-/// elsewhere, still finds it.
-void make_absolute(YAML::Node node, const std::filesystem::path& from) {
-  if (node && node.IsScalar() && std::filesystem::path(node.as<std::string>()).is_relative())
-    node = (from / node.as<std::string>()).lexically_normal().string();
-}
-
 std::string key_of(const std::string& variant, const std::string& stage) {
   return variant.empty() ? stage : variant + "/" + stage;
 }
@@ -90,7 +85,7 @@ bool tuned_in_run(const Variant& v) {
 
 /// The case the variant's run ran with: tuned in the run, tuned by `tune`, or as written.
 std::filesystem::path StudyRunner::ran_case(const Variant& v) const {
-  return tuned_in_run(v)    ? dir(v) / "run" / "tuned.yaml"
+  return tuned_in_run(v)    ? RunFiles{dir(v) / "run"}.tuned_case()
          : given(v.targets) ? dir(v) / "tuned.yaml"
                             : dir(v) / "case.yaml";
 }
@@ -152,10 +147,7 @@ void StudyRunner::write_rigid_case(const Variant& v) const {
   root.remove("solid");
   root.remove("petsc_options"); // the compliant solver's
   root["mesh"]["region"] = "fluid";
-  if (root["mesh"]["file"] &&
-      std::filesystem::path(root["mesh"]["file"].as<std::string>()).is_relative())
-    root["mesh"]["file"] =
-        (from.parent_path() / root["mesh"]["file"].as<std::string>()).lexically_normal().string();
+  io::relocate_case_paths(root, from.parent_path()); // absolute: rigid.yaml is elsewhere
   root["output"]["directory"] = (dir(v) / "rigid").string();
   YAML::Emitter out;
   out << root;
@@ -172,13 +164,9 @@ void StudyRunner::write_case(const Variant& v) const {
   root["name"] = spec_.name + "-" + v.name;
   for (const char* key : {"wall_file", "pipe"})
     root["mesh"].remove(key);
-  root["mesh"]["file"] = (geometry_dir(v) / "mesh.msh").string();
-  root["mesh"]["units"] = "mm"; // the geometry commands write millimetres
-  for (YAML::Node list : {root["boundary_conditions"], root["solid"]["boundary_conditions"]})
-    for (YAML::Node item : list)
-      for (const char* key : {"flow", "pressure"})
-        if (item[key] && item[key].IsMap())
-          make_absolute(item[key]["file"], from);
+  root["mesh"]["file"] = GeometryFiles{geometry_dir(v)}.mesh().string();
+  root["mesh"]["units"] = "mm";        // the geometry commands write millimetres
+  io::relocate_case_paths(root, from); // absolute: the variant's case is elsewhere
   if (given(spec_.time)) {
     for (const char* key : {"steps", "end", "cycles", "periodicity"})
       root["time"].remove(key);
@@ -246,13 +234,13 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
                                        (dir(v) / "targets.yaml").string()});
     else
       parallel.insert(parallel.end(), {"run", ran_case(v).string()});
-    if (std::filesystem::exists(dir(v) / "run" / "checkpoint.bin"))
+    if (std::filesystem::exists(RunFiles{dir(v) / "run"}.checkpoint()))
       parallel.push_back("--restart"); // an interrupted run continues
     return parallel;
   }
   if (s.name == "rigid_run") {
     parallel.insert(parallel.end(), {"run", (dir(v) / "rigid.yaml").string()});
-    if (std::filesystem::exists(dir(v) / "rigid" / "checkpoint.bin"))
+    if (std::filesystem::exists(RunFiles{dir(v) / "rigid"}.checkpoint()))
       parallel.push_back("--restart");
     return parallel;
   }
@@ -263,7 +251,7 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
           "analyze",
           (dir(v) / run).string(),
           "--landmarks",
-          (geometry_dir(v) / "landmarks.json").string(),
+          GeometryFiles{geometry_dir(v)}.landmarks().string(),
           "--case",
           ran.string()};
 }
@@ -374,27 +362,23 @@ void StudyRunner::write_summary() const {
   for (const Variant& v : spec_.variants) {
     json entry;
     const geometry::Landmarks landmarks =
-        geometry::read_landmarks(geometry_dir(v) / "landmarks.json");
+        geometry::read_landmarks(GeometryFiles{geometry_dir(v)}.landmarks());
     // The tear areas as the mesh has them (the hole in the flap's mid-plane), beside the
     // areas the landmarks declare (the recipe's, for a built-in model).
-    const mesh::Mesh mesh = mesh::read_gmsh(geometry_dir(v) / "mesh.msh", units::mm);
+    const mesh::Mesh mesh = mesh::read_gmsh(GeometryFiles{geometry_dir(v)}.mesh(), units::mm);
     for (const geometry::TearLandmark& t : landmarks.tears) {
       entry["tear_area_mm2"][t.name] = geometry::tear_area(mesh, t) / (units::mm * units::mm);
       entry["tear_area_declared_mm2"][t.name] = t.area / (units::mm * units::mm);
     }
-    const json metrics = read_json(dir(v) / "run" / "analysis" / "metrics.json");
-    if (metrics.is_object()) {
-      for (const char* key :
-           {"frames", "stations", "pressure_drops", "AAo_min_to_max_dilation_percent", "achieved"})
-        if (metrics.contains(key))
-          entry[key] = metrics[key];
-    }
-    if (spec_.compare_rigid) { // the rigid-wall counterpart's headline numbers
-      const json rigid = read_json(dir(v) / "rigid" / "analysis" / "metrics.json");
+    const json metrics = read_json(RunFiles{dir(v) / "run"}.metrics_json());
+    // Every metric the analysis wrote, as it wrote it: a new metric appears here without a
+    // list to keep (issue 24).
+    if (metrics.is_object())
+      entry.update(metrics);
+    if (spec_.compare_rigid) { // the rigid-wall counterpart's metrics
+      const json rigid = read_json(RunFiles{dir(v) / "rigid"}.metrics_json());
       if (rigid.is_object())
-        for (const char* key : {"stations", "pressure_drops", "achieved"})
-          if (rigid.contains(key))
-            entry["rigid"][key] = rigid[key];
+        entry["rigid"] = rigid;
     }
     const json tuning =
         read_json(dir(v) / (tuned_in_run(v) ? "run/tuning.json" : "tuned.tuning.json"));
@@ -404,7 +388,7 @@ void StudyRunner::write_summary() const {
     }
     // What ran: the wall model and the cycles with their change from the previous one.
     entry["wall"] = io::parse_yaml_file(dir(v) / "case.yaml")["solid"] ? "fsi" : "rigid";
-    const json cycles = read_json(dir(v) / "run" / "cycles.json");
+    const json cycles = read_json(RunFiles{dir(v) / "run"}.cycles_json());
     if (cycles.is_object() && cycles.contains("cycles")) {
       entry["cycles_run"] = cycles["cycles"].size();
       if (!cycles["cycles"].empty())

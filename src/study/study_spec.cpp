@@ -9,6 +9,7 @@
 
 #include "core/digest.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "io/case_yaml.hpp"
 
 namespace tearflow::study {
@@ -39,7 +40,7 @@ void read_geometry(const io::YamlValue& map, const std::vector<std::string>& kno
     if (option == "output" || option == "o")
       value.fail("the study chooses the geometry's output folder");
     if (std::find(known.begin(), known.end(), option) == known.end()) {
-      const std::string near = io::nearest_name(option, known);
+      const std::string near = nearest_name(option, known);
       value.fail(fmt::format("not an option of `tearflow geometry tbad`{} (docs/geometry.md)",
                              near.empty() ? "" : fmt::format("; did you mean '{}'?", near)));
     }
@@ -146,10 +147,11 @@ StudySpec load_study(const std::filesystem::path& file,
       item.fail("give `geometry` (a recipe) or `model` (an imported model folder), not both");
     if (const auto model = item.get("model")) {
       v.model = io::resolve_path(dir, model->text());
-      for (const char* needed : {"mesh.msh", "landmarks.json"})
-        if (!std::filesystem::exists(*v.model / needed))
+      const GeometryFiles folder{*v.model};
+      for (const std::filesystem::path& needed : {folder.mesh(), folder.landmarks()})
+        if (!std::filesystem::exists(needed))
           model->fail(fmt::format("'{}' has no {} (a folder written by `tearflow geometry`)",
-                                  v.model->string(), needed));
+                                  v.model->string(), needed.filename().string()));
     } else {
       v.geometry = geometry_defaults;
       if (const auto g = item.get("geometry"))

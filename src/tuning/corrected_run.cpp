@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "fem/petsc.hpp"
 #include "io/checkpoint.hpp"
 #include "io/vtu_series.hpp"
@@ -82,13 +83,13 @@ CorrectedRun run_corrected(const io::Case& c, const std::filesystem::path& case_
   OutletCorrection correction(c, targets);
   const bool root = fem::mpi_rank() == 0;
   const std::filesystem::path dir = c.output.directory;
-  const std::filesystem::path state_file = dir / "tuning.json";
+  const std::filesystem::path state_file = RunFiles{dir}.tuning_json();
 
   // entries: the 0D stage, every measured cycle, and last the outlets now running.
   std::vector<Entry> entries;
   if (options.restart && std::filesystem::exists(state_file)) {
     // What was known at the checkpoint: later cycles are run again.
-    const int at = static_cast<int>(io::read_checkpoint(dir / "checkpoint.bin").step);
+    const int at = static_cast<int>(io::read_checkpoint(RunFiles{dir}.checkpoint()).step);
     std::ifstream in(state_file);
     try {
       const json state = json::parse(in); // (a named value: the loop's range lives in it)
@@ -143,15 +144,15 @@ CorrectedRun run_corrected(const io::Case& c, const std::filesystem::path& case_
                           last.iteration, targets_file.string(),
                           r.met ? "targets met by the cycle" : "targets NOT met by the cycle") +
                   commented(table(r, targets));
-    io::write_file_atomically(dir / "tuned.yaml",
-                              tuned_yaml(case_file, r.tuned, dir / "tuned.yaml", header));
+    io::write_file_atomically(RunFiles{dir}.tuned_case(),
+                              tuned_yaml(case_file, r.tuned, RunFiles{dir}.tuned_case(), header));
   };
   if (!options.restart)
     write_state();
 
   run::Simulation sim(with_outlets(c, entries.back().step.outlets));
   bool met = false;
-  options.on_cycle = [&](const analysis::CycleStats& cycle, bool periodic) {
+  options.on_cycle = [&](const run::CycleStats& cycle, bool periodic) {
     TuningStep measured = entries.back().step; // the outlets that ran
     measured.iteration = cycle.cycle + 1;
     measure_cycle(cycle, correction.inlet(), targets, measured);

@@ -200,13 +200,13 @@ void OutletCorrection::learn(const TuningStep& s) {
     x /= sum;
 }
 
-void measure_cycle(const analysis::CycleStats& cycle, const std::string& inlet,
-                   const TuningTargets& t, TuningStep& s) {
+void measure_cycle(const run::CycleStats& cycle, const std::string& inlet, const TuningTargets& t,
+                   TuningStep& s) {
   const double period = cycle.t_end - cycle.t_begin;
   s.split_percent.assign(t.splits.size(), NAN);
   s.outlet_pressure.assign(t.splits.size(), NAN);
   s.outlet_flow.assign(t.splits.size(), NAN);
-  for (const analysis::FaceCycleStats& f : cycle.faces) {
+  for (const run::FaceCycleStats& f : cycle.faces) {
     if (f.face == inlet)
       s.achieved = {f.systolic, f.diastolic, f.mean};
     for (size_t i = 0; i < t.splits.size(); ++i)

@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/cycle_summary.hpp"
 #include "io/case.hpp"
+#include "run/cycle_summary.hpp"
 #include "tuning/targets.hpp"
 
 namespace tearflow::tuning {
@@ -88,7 +88,7 @@ private:
 };
 
 /// A run's cycle as a measured step: inlet pressures, splits, outlet mean pressures and flows.
-void measure_cycle(const analysis::CycleStats& cycle, const std::string& inlet_face,
+void measure_cycle(const run::CycleStats& cycle, const std::string& inlet_face,
                    const TuningTargets& targets, TuningStep& step);
 /// One progress line of a step (stdout).
 void print_step(const TuningStep& step);

@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "core/units.hpp"
+#include "io/case_edit.hpp"
 #include "io/case_yaml.hpp"
 
 namespace tearflow::tuning {
@@ -12,19 +13,8 @@ std::string tuned_yaml(const std::filesystem::path& case_file, const io::Case& t
                        const std::filesystem::path& out, const std::string& header) {
   YAML::Node root = io::parse_yaml_file(case_file);
   // Files named relative to the case stay found from the tuned case's folder.
-  const std::filesystem::path from = std::filesystem::absolute(case_file).parent_path();
-  const std::filesystem::path to = std::filesystem::absolute(out).parent_path();
-  auto relocate = [&](YAML::Node file) {
-    if (file && file.IsScalar() && std::filesystem::path(file.as<std::string>()).is_relative())
-      file = std::filesystem::relative(from / file.as<std::string>(), to).string();
-  };
-  if (from != to) {
-    relocate(root["mesh"]["file"]);
-    for (YAML::Node item : root["boundary_conditions"])
-      for (const char* key : {"flow", "pressure"})
-        if (item[key] && item[key].IsMap())
-          relocate(item[key]["file"]);
-  }
+  io::relocate_case_paths(root, std::filesystem::absolute(case_file).parent_path(),
+                          std::filesystem::absolute(out).parent_path());
   for (YAML::Node item : root["boundary_conditions"]) {
     const std::string face = item["face"].as<std::string>();
     for (const io::BoundaryCondition& b : tuned.boundary_conditions)

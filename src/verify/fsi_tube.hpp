@@ -19,7 +19,7 @@ struct FsiTubeSpec {
   bc::SolidConditions wall_conditions;
   double rho_inf = 0.5;
   double dt = 1e-4; ///< [s] the step the wall block's solver is chosen for (advance's)
-  io::NewtonSpec newton{15, 1e-8, 1e-14};
+  physics::NewtonSpec newton{15, 1e-8, 1e-14};
   bool moving_mesh = true;
 };
 

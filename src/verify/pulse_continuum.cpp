@@ -4,7 +4,7 @@
 #include <numbers>
 #include <optional>
 
-#include "verify/womersley_exact.hpp"
+#include "bc/womersley_exact.hpp"
 
 namespace tearflow::verify {
 
@@ -17,7 +17,7 @@ cplx womersley_f10(double alpha) {
   const cplx L = std::pow(cplx(0.0, 1.0), 1.5) * alpha;
   if (alpha > 30.0) // J1/J0 -> i (1 + i/(2L)) for Im L -> infinity: skips overflowing J's
     return 2.0 / L * (cplx(0.0, 1.0) + 1.0 / (2.0 * L));
-  return 2.0 * bessel_j1(L) / (L * bessel_j0(L));
+  return 2.0 * bc::bessel_j1(L) / (L * bc::bessel_j0(L));
 }
 
 /// I0(x) / I1(x), x > 0.

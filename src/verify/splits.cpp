@@ -68,7 +68,7 @@ VerificationResult verify_splits(const VerifyOptions& options) {
   run::Simulation sim(config);
   run::RunRecord record({kOutlets.begin(), kOutlets.end()}, sim.config().time.steps_per_cycle, T);
   record.add(sim.sample());
-  std::optional<analysis::CycleStats> cycle;
+  std::optional<run::CycleStats> cycle;
   int newton = 0;
   for (int s = 0; s < sim.config().time.steps; ++s) {
     const physics::StepReport r = sim.advance();
@@ -94,7 +94,7 @@ VerificationResult verify_splits(const VerifyOptions& options) {
   const int outlets_measured =
       cycle ? static_cast<int>(std::count_if(
                   cycle->faces.begin(), cycle->faces.end(),
-                  [](const analysis::FaceCycleStats& f) { return f.split_percent.has_value(); }))
+                  [](const run::FaceCycleStats& f) { return f.split_percent.has_value(); }))
             : 0;
   res.metrics.push_back({"outlet_count_error",
                          std::abs(static_cast<double>(kOutlets.size()) - outlets_measured), 0.0,
@@ -105,7 +105,7 @@ VerificationResult verify_splits(const VerifyOptions& options) {
     const double predicted = 100.0 * zero_d.mean_branch_flow(i) / total;
     double measured = NAN;
     if (cycle)
-      for (const analysis::FaceCycleStats& f : cycle->faces)
+      for (const run::FaceCycleStats& f : cycle->faces)
         if (f.face == kOutlets[i])
           measured = f.split_percent.value_or(NAN);
     worst = worst_of(worst, std::abs(measured - predicted));
@@ -126,7 +126,7 @@ VerificationResult verify_splits(const VerifyOptions& options) {
       {"C_T", C_T},
       {"k_d", k_d},
       {"splits", table},
-      {"cycle", cycle ? analysis::cycles_to_json(T, {*cycle}) : nlohmann::json()}};
+      {"cycle", cycle ? run::cycles_to_json(T, {*cycle}) : nlohmann::json()}};
   return res;
 }
 

@@ -72,7 +72,7 @@ VerificationResult verify_tuning(const VerifyOptions& options) {
   // runs than the bound shows it in runs_3d instead of being cut off at the bound.
   targets.max_iterations = kMaxRuns + 3;
   targets.cycles = 2;
-  for (const analysis::FaceCycleStats& f : measured.cycles.back().faces) {
+  for (const run::FaceCycleStats& f : measured.cycles.back().faces) {
     if (f.face == "inlet")
       targets.pressure = {f.systolic, f.diastolic, f.mean};
     if (f.split_percent)

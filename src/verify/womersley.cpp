@@ -13,10 +13,10 @@
 
 #include <fmt/format.h>
 
+#include "bc/womersley_exact.hpp"
 #include "fem/field_probe.hpp"
 #include "run/simulation.hpp"
 #include "verify/cases.hpp"
-#include "verify/womersley_exact.hpp"
 
 namespace tearflow::verify {
 
@@ -100,7 +100,7 @@ VerificationResult verify_womersley(const VerifyOptions& options) {
   const double h = R / 10.0 * options.coarsening;
   run::Simulation sim(womersley_case(h, q));
   const mesh::Mesh& m = sim.mesh();
-  const WomersleyFlow exact = womersley_from_waveform(q, 8, R, rho, mu);
+  const bc::WomersleyFlow exact = bc::womersley_from_waveform(q, 8, R, rho, mu);
 
   // Start from the analytic state: u(r, 0), p = G(0) (z - L), and du/dt by central
   // differences of the analytic solution (error ~1e-10 relative, far below the test's).

@@ -1,5 +1,5 @@
 // The MRI comparison section of a report page (report_mri.hpp).
-#include "analysis/report_mri.hpp"
+#include "report/report_mri.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -9,7 +9,7 @@
 
 #include "core/error.hpp"
 
-namespace tearflow::analysis {
+namespace tearflow::report {
 
 namespace {
 
@@ -170,4 +170,4 @@ std::string mri_comparison_table(const json& mri) {
   return html;
 }
 
-} // namespace tearflow::analysis
+} // namespace tearflow::report

@@ -7,7 +7,7 @@
 
 #include "bc/waveform.hpp"
 
-namespace tearflow::verify {
+namespace tearflow::bc {
 
 /// Bessel functions of the first kind of complex argument. Built for the Womersley ray
 /// z = i^(3/2) x (where J0 = ber x + i bei x): relative error < 1e-14 there for x up to 150
@@ -52,4 +52,4 @@ struct WomersleyFlow {
 WomersleyFlow womersley_from_waveform(const bc::Waveform& q, int modes, double radius,
                                       double density, double viscosity);
 
-} // namespace tearflow::verify
+} // namespace tearflow::bc

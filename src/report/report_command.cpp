@@ -1,13 +1,14 @@
-#include "analysis/report_command.hpp"
+#include "report/report_command.hpp"
 
 #include <fmt/format.h>
 
-#include "analysis/report.hpp"
-#include "analysis/report_mri.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "io/vtu_series.hpp"
+#include "report/report.hpp"
+#include "report/report_mri.hpp"
 
-namespace tearflow::analysis {
+namespace tearflow::report {
 
 namespace {
 
@@ -52,7 +53,7 @@ int ReportCommand::run() const {
   std::vector<nlohmann::json> runs;
   const nlohmann::json mri = mri_.empty() ? nlohmann::json() : report_mri_data(mri_);
   for (const std::string& dir : run_dirs_) {
-    const std::filesystem::path analysis = std::filesystem::path(dir) / "analysis";
+    const std::filesystem::path analysis = RunFiles{dir}.analysis_dir();
     runs.push_back(report_run_data(dir, analysis));
     write_page(report_html({runs.back()}, mri), analysis / "report.html", png_,
                analysis / "figures", chromium_, quiet_);
@@ -67,4 +68,4 @@ int ReportCommand::run() const {
   return 0;
 }
 
-} // namespace tearflow::analysis
+} // namespace tearflow::report

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace tearflow::analysis {
+namespace tearflow::report {
 
 /// One analysed run as the page sees it: {name, metrics, series: {landmark: {column: [...]}}}.
 /// InputError naming the file when metrics.json or a landmark's CSV is missing or malformed.
@@ -35,4 +35,4 @@ struct RenderedPage {
 RenderedPage render_in_chromium(const std::filesystem::path& page,
                                 const std::string& chromium = "chromium");
 
-} // namespace tearflow::analysis
+} // namespace tearflow::report

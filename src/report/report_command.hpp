@@ -1,12 +1,12 @@
 #pragma once
 // `tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--mri COMPARE_DIR] [--png]`: the command-line
-// edge of the report pages (analysis/report.hpp, docs/analysis.md).
+// edge of the report pages (report/report.hpp, docs/analysis.md).
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
-namespace tearflow::analysis {
+namespace tearflow::report {
 
 class ReportCommand {
 public:
@@ -22,4 +22,4 @@ private:
   bool png_ = false, quiet_ = false;
 };
 
-} // namespace tearflow::analysis
+} // namespace tearflow::report

@@ -1,4 +1,4 @@
-#include "analysis/cycle_summary.hpp"
+#include "run/cycle_summary.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include "core/error.hpp"
 #include "core/units.hpp"
 
-namespace tearflow::analysis {
+namespace tearflow::run {
 
 namespace {
 /// Trapezoidal integral of v over the samples' times.
@@ -123,4 +123,4 @@ nlohmann::json cycles_to_json(double period, const std::vector<CycleStats>& cycl
   return out;
 }
 
-} // namespace tearflow::analysis
+} // namespace tearflow::run

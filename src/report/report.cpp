@@ -1,4 +1,4 @@
-#include "analysis/report.hpp"
+#include "report/report.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -8,12 +8,13 @@
 #include <fmt/format.h>
 #include <vtkBase64Utilities.h>
 
-#include "analysis/report_mri.hpp"
 #include "core/error.hpp"
+#include "core/file_layout.hpp"
 #include "core/units.hpp"
+#include "report/report_mri.hpp"
 #include "tuning/targets.hpp"
 
-namespace tearflow::analysis {
+namespace tearflow::report {
 
 namespace {
 
@@ -179,7 +180,7 @@ td:first-child{text-align:left}.figure .canvas{position:relative;height:360px}
 
 json report_run_data(const std::filesystem::path& run_dir,
                      const std::filesystem::path& analysis_dir) {
-  const std::filesystem::path metrics_file = analysis_dir / "metrics.json";
+  const std::filesystem::path metrics_file = analysis_dir / RunFiles::kMetrics;
   if (!std::filesystem::exists(metrics_file))
     input_error("'{}' does not exist: run `tearflow analyze {}` first", metrics_file.string(),
                 run_dir.string());
@@ -301,4 +302,4 @@ RenderedPage render_in_chromium(const std::filesystem::path& page, const std::st
   return out;
 }
 
-} // namespace tearflow::analysis
+} // namespace tearflow::report

@@ -1,11 +1,11 @@
-#include "verify/womersley_exact.hpp"
+#include "bc/womersley_exact.hpp"
 
 #include <cmath>
 #include <numbers>
 
 #include "core/error.hpp"
 
-namespace tearflow::verify {
+namespace tearflow::bc {
 
 using cplx = std::complex<double>;
 
@@ -180,4 +180,4 @@ WomersleyFlow womersley_from_waveform(const bc::Waveform& q, int modes, double r
   return f;
 }
 
-} // namespace tearflow::verify
+} // namespace tearflow::bc

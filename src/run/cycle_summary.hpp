@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace tearflow::analysis {
+namespace tearflow::run {
 
 struct FaceSeries {
   std::string face;
@@ -61,4 +61,4 @@ double metrics_change(const CycleStats& previous, const CycleStats& current);
 /// every quantity with its unit in the key, pressures in Pa and mmHg.
 nlohmann::json cycles_to_json(double period, const std::vector<CycleStats>& cycles);
 
-} // namespace tearflow::analysis
+} // namespace tearflow::run

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace tearflow::analysis {
+namespace tearflow::report {
 
 /// {dir, comparison: compare.json, pairs: {landmark: {time_s, simulation_mL_per_s, ...}},
 /// pooled: {pairs, bias_mL_per_s, sd_mL_per_s, limits_of_agreement_mL_per_s}}. InputError
@@ -22,4 +22,4 @@ nlohmann::json report_mri_data(const std::filesystem::path& compare_dir);
 /// and voxel-wise differences when compare.json has them.
 std::string mri_comparison_table(const nlohmann::json& mri);
 
-} // namespace tearflow::analysis
+} // namespace tearflow::report
