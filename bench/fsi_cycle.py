@@ -5,7 +5,7 @@ fine element size, from a periodic state at several phases of the cycle; prints 
 
 usage: bench/fsi_cycle.py --source-case CASE --source-run DIR [--element-size 1.0]
                           [--step 0.005] [--phases 0.08 0.2 0.32 0.6] [--steps 3]
-                          [--ranks 1 2] [--mesh DIR]
+                          [--ranks 1 2] [--mesh DIR] [--stabilization-time-scale T]
   --source-case/--source-run: a periodic coarse FSI run of the built-in dissection (OR) and
       its case, e.g. the demo study's OR (results/tbad-demo/OR/run and its tuned case): its
       checkpoint at a cycle's end is the state the phases start from.
@@ -14,15 +14,18 @@ its checkpoint to that time (its own step), then the fine mesh (`geometry tbad -
 --element-size`, made once, or --mesh) started from that state interpolated (`run
 --start-from --start-case`), at --step for --steps steps; the first is start-up (the
 preconditioner's first setup, the interpolated state's settling) and not timed. Newton and
-solver options as the source case says.
+solver options as the source case says. --stabilization-time-scale T: the fine runs' tau_M
+time term at T seconds instead of their step (fluid.stabilization_time_scale, docs/study.md).
 """
 import argparse, json, os, platform, re, subprocess, sys, tempfile, time
 
 from run_progress import BIN, run_case
 
 
-def with_keys(text, output, mesh=None, step=None, checkpoint_every=0):
+def with_keys(text, output, mesh=None, step=None, checkpoint_every=0, time_scale=None):
     """The case text with its mesh file, time step and output replaced, cycles unbounded."""
+    if time_scale:
+        text = re.sub(r"fluid: \{", "fluid: {stabilization_time_scale: %r, " % time_scale, text)
     if mesh:
         text = re.sub(r"mesh: \{file: [^,]*,", "mesh: {file: " + mesh + ",", text)
     if step:
@@ -42,6 +45,7 @@ def main():
     ap.add_argument("--phases", type=float, nargs="+", default=[0.08, 0.2, 0.32, 0.6])
     ap.add_argument("--steps", type=int, default=3)
     ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--stabilization-time-scale", type=float)
     a = ap.parse_args()
     source_text = open(a.source_case).read()
     coarse_step = float(re.search(r"time: \{step: ([^,]*),", source_text).group(1))
@@ -51,7 +55,9 @@ def main():
                .split(",")[1])  # the last row: the checkpoint's time at the run's end
     result = {"date": time.strftime("%Y-%m-%d"),
               "machine": platform.processor() or platform.machine(), "cores": os.cpu_count(),
-              "element_size_mm": a.element_size, "step_s": a.step, "source_run": run_dir,
+              "element_size_mm": a.element_size, "step_s": a.step,
+              "stabilization_time_scale_s": a.stabilization_time_scale or a.step,
+              "source_run": run_dir,
               "source_time_s": t0, "phases": []}
     with tempfile.TemporaryDirectory() as tmp:
         mesh_dir = os.path.abspath(a.mesh or os.path.join(tmp, "geometry"))
@@ -74,7 +80,8 @@ def main():
             for ranks in a.ranks:
                 fine_dir = os.path.join(tmp, "fine-%g-%d" % (phase, ranks))
                 open(fine_case, "w").write(with_keys(source_text, fine_dir,
-                                                     os.path.join(mesh_dir, "mesh.msh"), a.step))
+                                                     os.path.join(mesh_dir, "mesh.msh"), a.step,
+                                                     time_scale=a.stabilization_time_scale))
                 first = round(t / a.step)
                 row["runs"].append(run_case(fine_case, ranks, fine_dir, first + a.steps,
                                             extra=["--start-from",
