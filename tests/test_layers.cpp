@@ -54,12 +54,17 @@ struct Include {
 };
 
 std::vector<Include> includes_between_folders() {
-  const std::regex include(R"(^\s*#\s*include\s+"([a-z_]+)/)");
+  // "folder/..." or <folder/...>: src/ is on the include path, so both reach it.
+  const std::regex include(R"(^\s*#\s*include\s*["<]([A-Za-z0-9_]+)/)");
   std::vector<Include> out;
   for (const auto& entry : fs::recursive_directory_iterator(kSource / "src")) {
     if (!entry.is_regular_file())
       continue;
-    const std::string folder = entry.path().parent_path().filename().string();
+    // The folder is the first part below src/, also for files in nested folders; a file
+    // directly in src/ belongs to none and is reported.
+    const fs::path relative = entry.path().lexically_relative(kSource / "src");
+    const std::string folder =
+        std::distance(relative.begin(), relative.end()) > 1 ? relative.begin()->string() : "";
     std::ifstream in(entry.path());
     std::string text;
     std::smatch m;
@@ -73,6 +78,9 @@ std::vector<Include> includes_between_folders() {
 TEST(Layers, EveryFolderOfSrcHasItsLayer) {
   const auto layer = layers_from(kSource / "docs" / "architecture.md");
   ASSERT_FALSE(layer.empty()) << "docs/architecture.md has no line 'core -> ...'";
+  for (const auto& entry : fs::directory_iterator(kSource / "src"))
+    EXPECT_TRUE(entry.is_directory())
+        << entry.path().filename().string() << " lies directly in src/, outside every folder";
   for (const auto& entry : fs::directory_iterator(kSource / "src"))
     if (entry.is_directory())
       EXPECT_TRUE(layer.count(entry.path().filename().string()))

@@ -27,7 +27,8 @@ struct RunFiles {
   /// and the case with the outlets it ended with.
   std::filesystem::path tuning_json() const { return dir / "tuning.json"; }
   std::filesystem::path tuned_case() const { return dir / "tuned.yaml"; }
-  /// The geometry a study or `mri synthesize` placed beside the run.
+  /// The geometry the built-in case writes into its run directory (`tearflow run` without a
+  /// case); `analyze` and `mri synthesize` look there for landmarks unless told otherwise.
   GeometryFiles geometry() const { return {dir / "geometry"}; }
   /// `tearflow analyze`'s default output and `report`'s page.
   std::filesystem::path analysis_dir() const { return dir / "analysis"; }

@@ -4,13 +4,18 @@ namespace tearflow::io {
 
 void relocate_case_paths(YAML::Node root, const std::filesystem::path& from,
                          const std::filesystem::path& to) {
-  const std::filesystem::path source = std::filesystem::absolute(from);
-  const std::filesystem::path target = to.empty() ? to : std::filesystem::absolute(to);
+  const std::filesystem::path source = std::filesystem::absolute(from).lexically_normal();
+  const std::filesystem::path target =
+      to.empty() ? to : std::filesystem::absolute(to).lexically_normal();
   auto relocate = [&](YAML::Node file) {
     if (!file || !file.IsScalar() || std::filesystem::path(file.as<std::string>()).is_absolute())
       return;
     const std::filesystem::path named = (source / file.as<std::string>()).lexically_normal();
-    file = (target.empty() ? named : std::filesystem::relative(named, target)).string();
+    // Lexically, as the case reader joins paths (resolve_path): std::filesystem::relative
+    // would resolve symlinks on one side only, and a case in a symlinked folder lose its files.
+    const std::filesystem::path relative =
+        target.empty() ? std::filesystem::path() : named.lexically_relative(target);
+    file = (relative.empty() ? named : relative).string();
   };
   if (root["mesh"] && root["mesh"].IsMap())
     for (const char* key : {"file", "wall_file"})

@@ -39,11 +39,11 @@ io::Case default_case() {
   // Rank 0 builds and writes the model beside the results; every rank then reads the same
   // file, so that all hold the same mesh.
   c.mesh.generator = [](const io::Case& self) {
-    const std::filesystem::path geometry_dir = self.output.directory / "geometry";
+    const GeometryFiles geometry = RunFiles{self.output.directory}.geometry();
     if (fem::mpi_rank() == 0)
-      geometry::build_tbad(geometry::TbadSpec{}, geometry_dir);
+      geometry::build_tbad(geometry::TbadSpec{}, geometry.dir);
     MPI_Barrier(PETSC_COMM_WORLD);
-    return mesh::read_mesh(GeometryFiles{geometry_dir}.mesh(), 1e-3);
+    return mesh::read_mesh(geometry.mesh(), 1e-3);
   };
   c.mesh.region = "fluid";
   c.fluid = {1100.0, 0.0042}; // the study's blood-mimicking fluid

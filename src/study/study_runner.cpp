@@ -380,8 +380,8 @@ void StudyRunner::write_summary() const {
       if (rigid.is_object())
         entry["rigid"] = rigid;
     }
-    const json tuning =
-        read_json(dir(v) / (tuned_in_run(v) ? "run/tuning.json" : "tuned.tuning.json"));
+    const json tuning = read_json(tuned_in_run(v) ? RunFiles{dir(v) / "run"}.tuning_json()
+                                                  : dir(v) / "tuned.tuning.json");
     if (tuning.is_object()) {
       entry["tuning"] = tuning;
       entry["tuning"].erase("run_state"); // the restart's copy of the steps
