@@ -6,7 +6,6 @@
 #include <fstream>
 #include <map>
 #include <regex>
-#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -78,14 +77,14 @@ std::vector<Include> includes_between_folders() {
 TEST(Layers, EveryFolderOfSrcHasItsLayer) {
   const auto layer = layers_from(kSource / "docs" / "architecture.md");
   ASSERT_FALSE(layer.empty()) << "docs/architecture.md has no line 'core -> ...'";
-  for (const auto& entry : fs::directory_iterator(kSource / "src"))
-    EXPECT_TRUE(entry.is_directory())
-        << entry.path().filename().string() << " lies directly in src/, outside every folder";
-  for (const auto& entry : fs::directory_iterator(kSource / "src"))
-    if (entry.is_directory())
-      EXPECT_TRUE(layer.count(entry.path().filename().string()))
-          << "src/" << entry.path().filename().string()
-          << " is not in docs/architecture.md's layer line";
+  for (const auto& entry : fs::directory_iterator(kSource / "src")) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_directory())
+      ADD_FAILURE() << name << " lies directly in src/, outside every folder";
+    else
+      EXPECT_TRUE(layer.count(name))
+          << "src/" << name << " is not in docs/architecture.md's layer line";
+  }
 }
 
 /// "file:line: from includes to, ..." for every include against the order.

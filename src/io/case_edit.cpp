@@ -1,5 +1,7 @@
 #include "io/case_edit.hpp"
 
+#include "io/case_yaml.hpp"
+
 namespace tearflow::io {
 
 void relocate_case_paths(YAML::Node root, const std::filesystem::path& from,
@@ -10,7 +12,7 @@ void relocate_case_paths(YAML::Node root, const std::filesystem::path& from,
   auto relocate = [&](YAML::Node file) {
     if (!file || !file.IsScalar() || std::filesystem::path(file.as<std::string>()).is_absolute())
       return;
-    const std::filesystem::path named = (source / file.as<std::string>()).lexically_normal();
+    const std::filesystem::path named = resolve_path(source, file.as<std::string>());
     // Lexically, as the case reader joins paths (resolve_path): std::filesystem::relative
     // would resolve symlinks on one side only, and a case in a symlinked folder lose its files.
     const std::filesystem::path relative =
