@@ -78,9 +78,9 @@ int run_command(const RunArgs& args, const std::string& cli_petsc) {
     c.time.steps = steps;
   if (!output.empty())
     c.output.directory = std::filesystem::absolute(output);
-  // Case options first, command-line options after, so the command line wins.
-  TF_PETSC(PetscOptionsInsertString(nullptr, c.petsc_options.c_str()));
-  TF_PETSC(PetscOptionsInsertString(nullptr, cli_petsc.c_str()));
+  // The run's PETSc options (fem/solver_options.hpp): the case's, then the command line's,
+  // which so win.
+  c.petsc_options += cli_petsc;
   const bool root = fem::mpi_rank() == 0;
   if (root && !quiet)
     fmt::print("tearflow run '{}': {} steps of {} s, output in '{}'\n", c.name, c.time.steps,

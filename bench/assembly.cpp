@@ -34,15 +34,9 @@ io::Case pipe_case(double element_size) {
   c.name = "bench-assembly";
   c.mesh.pipe = mesh::PipeSpec{0.01, 0.1, element_size};
   c.time = {0.005, 1, 0.5};
-  io::BoundaryCondition wall, inlet, outlet;
-  wall.face = "wall";
-  inlet.face = "inlet";
-  inlet.type = io::BcType::Inflow;
-  inlet.flow = bc::Waveform::constant(50e-6); // 50 mL/s
-  outlet.face = "outlet";
-  outlet.type = io::BcType::Resistance;
-  outlet.resistance = 1.0e8;
-  c.boundary_conditions = {wall, inlet, outlet};
+  c.boundary_conditions = {{"wall", bc::NoSlip{}},
+                           {"inlet", bc::Inflow{bc::Waveform::constant(50e-6)}}, // 50 mL/s
+                           {"outlet", bc::Outlet{bc::ResistanceOutlet{1.0e8, 0.0}}}};
   c.output.every = 0;
   return c;
 }
@@ -74,7 +68,7 @@ int bench(double element_size, int repeat) {
   c.output.directory = std::filesystem::temp_directory_path() / "tearflow-bench-assembly";
   run::Simulation sim(c);
   sim.advance();
-  physics::FluidProblem& problem = sim.problem();
+  physics::FluidProblem& problem = sim.fluid();
   const fem::DofMap& dofs = problem.dofs();
   const fem::DistributedMesh& dm = sim.distributed_mesh();
   const auto& tets = dm.tets();

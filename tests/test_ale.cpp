@@ -58,9 +58,7 @@ TEST(Ale, UniformFlowStaysUniformOnAMovingMesh) {
   const double Q = U * inlet_area;
   conditions.inflows.emplace_back(m, m.face("inlet"), bc::Waveform::constant(Q),
                                   bc::ProfileShape::Plug, rho, mu, 0);
-  bc::TractionOutlet outlet;
-  outlet.face = "outlet";
-  conditions.outlets.push_back(outlet);
+  conditions.outlets.push_back({"outlet", bc::PressureOutlet{}}); // traction-free
   const auto scheme = physics::GeneralizedAlpha::from_spectral_radius(0.5);
   physics::FluidProblem problem(m, dmesh, {rho, mu}, std::move(conditions), scheme);
   physics::FluidSolver solver(problem, {10, 1e-12, 1e-15});

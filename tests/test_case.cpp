@@ -58,15 +58,15 @@ TEST(LoadCase, FullCaseInSiUnits) {
   EXPECT_DOUBLE_EQ(c.time.spectral_radius, 0.4);
 
   ASSERT_EQ(c.boundary_conditions.size(), 4u);
-  const io::BoundaryCondition& wall = c.boundary_conditions[0];
+  const bc::BoundaryCondition& wall = c.boundary_conditions[0];
   EXPECT_EQ(wall.face, "lumen_wall");
-  EXPECT_EQ(wall.type, io::BcType::NoSlip);
+  EXPECT_TRUE(std::holds_alternative<bc::NoSlip>(wall.kind));
 
   // Inflow from inflow.csv in mL/s -> m^3/s; the spline passes through the samples.
-  const io::BoundaryCondition& inlet = c.boundary_conditions[1];
-  EXPECT_EQ(inlet.face, "lumen_inlet");
-  EXPECT_EQ(inlet.type, io::BcType::Inflow);
-  EXPECT_EQ(inlet.profile, io::InflowProfile::Womersley);
+  EXPECT_EQ(c.boundary_conditions[1].face, "lumen_inlet");
+  ASSERT_TRUE(c.boundary_conditions[1].inflow());
+  const bc::Inflow& inlet = *c.boundary_conditions[1].inflow();
+  EXPECT_EQ(inlet.profile, bc::ProfileShape::Womersley);
   EXPECT_EQ(inlet.womersley_modes, 8);
   EXPECT_FALSE(inlet.flow.is_constant());
   EXPECT_DOUBLE_EQ(inlet.flow.period(), 1.0);
@@ -75,15 +75,19 @@ TEST(LoadCase, FullCaseInSiUnits) {
   EXPECT_NEAR(inlet.flow(1.2), 300e-6, 1e-15); // one period later
 
   // Constant pressure in mmHg -> Pa.
-  const io::BoundaryCondition& outlet = c.boundary_conditions[2];
-  EXPECT_EQ(outlet.type, io::BcType::Pressure);
-  EXPECT_TRUE(outlet.pressure.is_constant());
-  EXPECT_NEAR(outlet.pressure(0.3), 80.0 * units::mmHg, 1e-9);
+  ASSERT_TRUE(c.boundary_conditions[2].outlet());
+  const bc::Outlet& outlet = *c.boundary_conditions[2].outlet();
+  const auto* pressure = std::get_if<bc::PressureOutlet>(&outlet.law);
+  ASSERT_TRUE(pressure);
+  EXPECT_TRUE(pressure->pressure.is_constant());
+  EXPECT_NEAR(pressure->pressure(0.3), 80.0 * units::mmHg, 1e-9);
   EXPECT_DOUBLE_EQ(outlet.backflow_beta, 0.3);
 
-  const io::BoundaryCondition& branch = c.boundary_conditions[3];
-  EXPECT_EQ(branch.type, io::BcType::Resistance);
-  EXPECT_DOUBLE_EQ(branch.resistance, 1.2e7);
+  ASSERT_TRUE(c.boundary_conditions[3].outlet());
+  const bc::Outlet& branch = *c.boundary_conditions[3].outlet();
+  const auto* resistance = std::get_if<bc::ResistanceOutlet>(&branch.law);
+  ASSERT_TRUE(resistance);
+  EXPECT_DOUBLE_EQ(resistance->resistance, 1.2e7);
   EXPECT_DOUBLE_EQ(branch.backflow_beta, 0.0);
 
   EXPECT_EQ(c.newton.max_iterations, 6);
@@ -116,10 +120,11 @@ TEST(LoadCase, DefaultsFillTheRest) {
   EXPECT_DOUBLE_EQ(c.time.spectral_radius, defaults.time.spectral_radius);
 
   ASSERT_EQ(c.boundary_conditions.size(), 1u);
-  const io::BoundaryCondition& inlet = c.boundary_conditions[0];
+  ASSERT_TRUE(c.boundary_conditions[0].inflow());
+  const bc::Inflow& inlet = *c.boundary_conditions[0].inflow();
   EXPECT_TRUE(inlet.flow.is_constant());
   EXPECT_DOUBLE_EQ(inlet.flow(0.0), 2.0e-6); // m3/s by default
-  EXPECT_EQ(inlet.profile, io::InflowProfile::Parabolic);
+  EXPECT_EQ(inlet.profile, bc::ProfileShape::Parabolic);
 
   EXPECT_EQ(c.newton.max_iterations, defaults.newton.max_iterations);
   EXPECT_EQ(c.petsc_options, "");
@@ -147,16 +152,19 @@ TEST(LoadCase, InlineSamplesAndSimVascularFlow) {
   EXPECT_EQ(c.time.steps, 3);
 
   // SimVascular .flow in cm^3/s, negative into the domain; sign -1 makes it positive.
-  const io::BoundaryCondition& inlet = c.boundary_conditions[0];
-  EXPECT_EQ(inlet.profile, io::InflowProfile::Plug);
+  ASSERT_TRUE(c.boundary_conditions[0].inflow());
+  const bc::Inflow& inlet = *c.boundary_conditions[0].inflow();
+  EXPECT_EQ(inlet.profile, bc::ProfileShape::Plug);
   EXPECT_DOUBLE_EQ(inlet.flow.period(), 1.0);
   EXPECT_NEAR(inlet.flow(0.0625), 4.782786e-6, 1e-12);
 
   // Inline samples in ms and mmHg with an explicit period.
-  const io::BoundaryCondition& outlet = c.boundary_conditions[1];
-  EXPECT_DOUBLE_EQ(outlet.pressure.period(), 1.0);
-  EXPECT_NEAR(outlet.pressure(0.2), 120.0 * units::mmHg, 1e-9);
-  EXPECT_NEAR(outlet.pressure(1.2), 120.0 * units::mmHg, 1e-9);
+  ASSERT_TRUE(c.boundary_conditions[1].outlet());
+  const auto* outlet = std::get_if<bc::PressureOutlet>(&c.boundary_conditions[1].outlet()->law);
+  ASSERT_TRUE(outlet);
+  EXPECT_DOUBLE_EQ(outlet->pressure.period(), 1.0);
+  EXPECT_NEAR(outlet->pressure(0.2), 120.0 * units::mmHg, 1e-9);
+  EXPECT_NEAR(outlet->pressure(1.2), 120.0 * units::mmHg, 1e-9);
   // The cardiac period comes from the waveforms; 1 s is 1000 steps of 1 ms.
   EXPECT_DOUBLE_EQ(c.time.period, 1.0);
   EXPECT_EQ(c.time.steps_per_cycle, 1000);
@@ -166,20 +174,36 @@ TEST(LoadCase, InlineSamplesAndSimVascularFlow) {
 
 TEST(LoadCase, WindkesselOutletAndPeriodicityStop) {
   const io::Case c = io::load_case(kCases / "rcr_cycles.yaml");
-  const io::BoundaryCondition& outlet = c.boundary_conditions[1];
-  ASSERT_EQ(outlet.type, io::BcType::Windkessel);
-  EXPECT_DOUBLE_EQ(outlet.rcr.proximal_resistance, 1.21e7);
-  EXPECT_DOUBLE_EQ(outlet.rcr.capacitance, 1.5e-10);
-  EXPECT_DOUBLE_EQ(outlet.rcr.distal_resistance, 1.212e8);
-  EXPECT_NEAR(outlet.rcr.reference_pressure, 5.0 * units::mmHg, 1e-9);
-  ASSERT_TRUE(outlet.initial_distal_pressure.has_value());
-  EXPECT_NEAR(*outlet.initial_distal_pressure, 80.0 * units::mmHg, 1e-9);
+  ASSERT_TRUE(c.boundary_conditions[1].outlet());
+  const auto* outlet = std::get_if<bc::RcrOutlet>(&c.boundary_conditions[1].outlet()->law);
+  ASSERT_TRUE(outlet);
+  EXPECT_DOUBLE_EQ(outlet->rcr.proximal_resistance, 1.21e7);
+  EXPECT_DOUBLE_EQ(outlet->rcr.capacitance, 1.5e-10);
+  EXPECT_DOUBLE_EQ(outlet->rcr.distal_resistance, 1.212e8);
+  EXPECT_NEAR(outlet->rcr.reference_pressure, 5.0 * units::mmHg, 1e-9);
+  ASSERT_TRUE(outlet->initial_distal_pressure.has_value());
+  EXPECT_NEAR(*outlet->initial_distal_pressure, 80.0 * units::mmHg, 1e-9);
   // Period from the .flow file; at most 6 cycles of 100 steps.
   EXPECT_DOUBLE_EQ(c.time.period, 1.0);
   EXPECT_EQ(c.time.steps_per_cycle, 100);
   EXPECT_EQ(c.time.steps, 600);
   EXPECT_DOUBLE_EQ(c.time.periodicity_tolerance, 0.01);
   EXPECT_FALSE(c.time.start_from_0d);
+}
+
+TEST(LoadCase, RcOutlet) {
+  const io::Case c = io::load_case(kCases / "rc_outlet.yaml");
+  ASSERT_TRUE(c.boundary_conditions[1].outlet());
+  const bc::Outlet& outlet = *c.boundary_conditions[1].outlet();
+  const auto* rc = std::get_if<bc::RcOutlet>(&outlet.law);
+  ASSERT_TRUE(rc);
+  EXPECT_DOUBLE_EQ(rc->resistance, 1.333e8); // resistances and capacitances stay SI
+  EXPECT_DOUBLE_EQ(rc->capacitance, 1.5e-10);
+  EXPECT_NEAR(rc->reference_pressure, 5.0 * units::mmHg, 1e-9);
+  ASSERT_TRUE(rc->initial_pressure.has_value());
+  EXPECT_NEAR(*rc->initial_pressure, 80.0 * units::mmHg, 1e-9);
+  EXPECT_DOUBLE_EQ(outlet.backflow_beta, 0.5);
+  EXPECT_EQ(c.time.steps, 200);
 }
 
 // --- invalid cases -----------------------------------------------------------------------
@@ -286,6 +310,10 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
           "required key 'capacitance' is missing"},
   BadCase{"bad_rcr_key.yaml", 13, "boundary_conditions[1].resistance",
           "key 'resistance' does not apply here (type: rcr)"},
+  BadCase{"bad_rc_key.yaml", 13, "boundary_conditions[1].proximal_resistance",
+          "key 'proximal_resistance' does not apply here (type: rc)"},
+  BadCase{"bad_rc_missing_c.yaml", 11, "boundary_conditions[1]",
+          "required key 'capacitance' is missing"},
   BadCase{"bad_cycles_step.yaml", 7, "time.cycles",
           "the period 1 s is not a multiple of time.step = 0.003 s"},
   BadCase{"bad_cycles_and_steps.yaml", 8, "time.cycles", "not both time.steps and time.cycles"}),
@@ -320,9 +348,7 @@ io::Case case_with_faces(std::initializer_list<const char*> faces) {
   io::Case c;
   c.file = "pipe.yaml";
   for (const char* face : faces) {
-    io::BoundaryCondition bc;
-    bc.face = face;
-    c.boundary_conditions.push_back(bc);
+    c.boundary_conditions.push_back({face, bc::NoSlip{}});
   }
   return c;
 }
@@ -387,8 +413,7 @@ TEST(CheckCaseAgainstMesh, AnImplausibleScaleNamesTheUnitThatFits) {
 TEST(CheckCaseAgainstMesh, InflowIntoAClosedDomainIsRefused) {
   // The probe's case: the outlet left without a condition, so a wall; it only warned.
   io::Case c = case_with_faces({"inlet", "wall"});
-  c.boundary_conditions[0].type = io::BcType::Inflow;
-  c.boundary_conditions[0].flow = bc::Waveform::constant(1e-6);
+  c.boundary_conditions[0].kind = bc::Inflow{bc::Waveform::constant(1e-6)};
   try {
     io::check_case_against_mesh(c, three_face_mesh());
     FAIL() << "expected an InputError";
@@ -397,10 +422,7 @@ TEST(CheckCaseAgainstMesh, InflowIntoAClosedDomainIsRefused) {
                                     "'inlet' but no face lets it out"));
     EXPECT_THAT(e.what(), HasSubstr("faces without a condition are walls: outlet"));
   }
-  io::BoundaryCondition outlet;
-  outlet.face = "outlet";
-  outlet.type = io::BcType::Resistance;
-  c.boundary_conditions.push_back(outlet);
+  c.boundary_conditions.push_back({"outlet", bc::Outlet{bc::ResistanceOutlet{1e8, 0.0}}});
   EXPECT_NO_THROW(io::check_case_against_mesh(c, three_face_mesh()));
 }
 

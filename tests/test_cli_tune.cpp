@@ -58,12 +58,15 @@ TEST(CliTune, WritesTheTunedCaseAndTheTable) {
   EXPECT_THAT(text, HasSubstr("#                    target   achieved     error"));
   EXPECT_THAT(text, HasSubstr("# P_sys mmHg"));
   const tearflow::io::Case c = tearflow::io::load_case(tuned);
-  const tearflow::io::BoundaryCondition* outlet = nullptr;
+  const tearflow::bc::BoundaryCondition* outlet = nullptr;
   for (const auto& b : c.boundary_conditions)
     if (b.face == "outlet")
       outlet = &b;
   ASSERT_NE(outlet, nullptr);
-  ASSERT_EQ(outlet->type, tearflow::io::BcType::Windkessel);
+  ASSERT_TRUE(outlet->outlet());
+  ASSERT_TRUE(std::holds_alternative<tearflow::bc::RcrOutlet>(outlet->outlet()->law));
+  const tearflow::bc::WindkesselRCR& rcr =
+      std::get<tearflow::bc::RcrOutlet>(outlet->outlet()->law).rcr;
 
   std::ifstream in(dir / "tuned.tuning.json");
   const nlohmann::json j = nlohmann::json::parse(in);
@@ -74,9 +77,9 @@ TEST(CliTune, WritesTheTunedCaseAndTheTable) {
   // One outlet takes R_T whole: R_p + R_d = R_T, C = C_T, R_d = k_d R_T (written to 6
   // significant digits).
   const double R_T = last["R_T_Pa_s_per_m3"], C_T = last["C_T_m3_per_Pa"], k_d = last["k_d"];
-  EXPECT_NEAR(outlet->rcr.proximal_resistance + outlet->rcr.distal_resistance, R_T, 1e-5 * R_T);
-  EXPECT_NEAR(outlet->rcr.distal_resistance, k_d * R_T, 1e-5 * R_T);
-  EXPECT_NEAR(outlet->rcr.capacitance, C_T, 1e-5 * C_T);
+  EXPECT_NEAR(rcr.proximal_resistance + rcr.distal_resistance, R_T, 1e-5 * R_T);
+  EXPECT_NEAR(rcr.distal_resistance, k_d * R_T, 1e-5 * R_T);
+  EXPECT_NEAR(rcr.capacitance, C_T, 1e-5 * C_T);
   EXPECT_LE(double(last["pressure_error_percent"]), 10.0);
   EXPECT_NEAR(double(last["split_percent"]["outlet"]), 100.0, 1e-9);
 }
@@ -211,8 +214,10 @@ TEST(CliTune, RunCorrectsItsOutletsAtCycleEndsUntilAPeriodicCycleMeetsTheTargets
   const tearflow::io::Case tuned = tearflow::io::load_case(whole / "tuned.yaml");
   const double R_T = steps[3]["R_T_Pa_s_per_m3"];
   for (const auto& b : tuned.boundary_conditions)
-    if (b.face == "outlet") // the sum of two exact doubles, and R_T printed to 17 digits
-      EXPECT_NEAR(b.rcr.proximal_resistance + b.rcr.distal_resistance, R_T, 1e-15 * R_T);
+    if (b.face == "outlet") { // the sum of two exact doubles, and R_T printed to 17 digits
+      const auto& rcr = std::get<tearflow::bc::RcrOutlet>(b.outlet()->law).rcr;
+      EXPECT_NEAR(rcr.proximal_resistance + rcr.distal_resistance, R_T, 1e-15 * R_T);
+    }
   // ... exactly the outlets the run ended with: its checkpoint starts the tuned case.
   const Result next = tearflow::testing::run_tearflow(
       "run " + (whole / "tuned.yaml").string() + " -q --steps 64 --start-from " +

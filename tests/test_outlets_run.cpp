@@ -1,4 +1,4 @@
-// Outlets through the program: RCR restart mid-cycle, Newton iterations under stiff
+// Outlets through the program: RCR and RC restart mid-cycle, Newton iterations under stiff
 // Windkessels, backflow with and without stabilization, the cycle summary, the periodicity
 // stop; NaN-safe verification metrics.
 #include <cmath>
@@ -63,17 +63,18 @@ std::vector<int> newton_per_step(const std::string& output) {
 
 } // namespace
 
-TEST(OutletRun, RcrRestartMidCycleReproducesTheUninterruptedRun) {
-  const fs::path full = fresh_dir("rcr-full"), split = fresh_dir("rcr-split");
-  const Result a =
-      run("run " + (data / "runs/small_pipe_rcr.yaml").string() + " -q -o " + full.string());
+/// The small pipe closed by an outlet law with a state (GetParam(): rcr or rc).
+class OutletRestart : public testing::TestWithParam<std::string> {};
+
+TEST_P(OutletRestart, MidCycleReproducesTheUninterruptedRun) {
+  const std::string law = GetParam();
+  const fs::path full = fresh_dir(law + "-full"), split = fresh_dir(law + "-split");
+  const fs::path whole = data / "runs" / ("small_pipe_" + law + ".yaml"),
+                 half = data / "runs" / ("small_pipe_" + law + "_half.yaml");
+  const Result a = run("run " + whole.string() + " -q -o " + full.string());
   ASSERT_EQ(a.code, 0) << a.output;
-  ASSERT_EQ(
-      run("run " + (data / "runs/small_pipe_rcr_half.yaml").string() + " -q -o " + split.string())
-          .code,
-      0);
-  const Result b = run("run " + (data / "runs/small_pipe_rcr.yaml").string() + " -q --restart -o " +
-                       split.string());
+  ASSERT_EQ(run("run " + half.string() + " -q -o " + split.string()).code, 0);
+  const Result b = run("run " + whole.string() + " -q --restart -o " + split.string());
   ASSERT_EQ(b.code, 0) << b.output;
   const auto ra = read_faces(full), rb = read_faces(split);
   ASSERT_EQ(ra.size(), 17u * 3u); // steps 0..16 (two cycles of 8), three faces
@@ -88,7 +89,7 @@ TEST(OutletRun, RcrRestartMidCycleReproducesTheUninterruptedRun) {
     EXPECT_NEAR(w.distal, v.distal, 1e-8 * std::abs(v.distal) + 1e-8) << key.second;
     distal_rows += key.second == "outlet" && v.distal > 0.0;
   }
-  EXPECT_EQ(distal_rows, 17); // every outlet row carries the RCR's distal pressure
+  EXPECT_EQ(distal_rows, 17); // every outlet row carries the capacitor's pressure
 
   // Both runs summarize the same two cycles.
   const auto cycles = [](const fs::path& d) {
@@ -103,6 +104,8 @@ TEST(OutletRun, RcrRestartMidCycleReproducesTheUninterruptedRun) {
   EXPECT_NEAR(pa, pb, 1e-8 * std::abs(pa));
   EXPECT_NEAR(double(ca["cycles"][1]["faces"]["outlet"]["flow_split_percent"]), 100.0, 1e-9);
 }
+
+INSTANTIATE_TEST_SUITE_P(OutletRun, OutletRestart, testing::Values("rcr", "rc"));
 
 TEST(OutletRun, NewtonIterationsDoNotGrowWithStiffWindkessels) {
   // The outlet's dP/dQ is in the Newton tangent (as a low-rank term), so R_p and R_d 100
@@ -201,7 +204,8 @@ TEST(OutletRun, PeriodicityToleranceStopsTheRunOrRunsToMaxCycles) {
     EXPECT_GT(double(cb["cycles"][k]["change_from_previous"]), 1e-6) << "cycle " << k + 1;
   EXPECT_EQ(newton_per_step(b.output).size(), 24u);
   EXPECT_THAT(b.output, testing::Not(testing::HasSubstr("(periodic)")));
-  EXPECT_THAT(b.output, testing::HasSubstr("not periodic within 1e-06 after 3 cycle(s) (last change"));
+  EXPECT_THAT(b.output,
+              testing::HasSubstr("not periodic within 1e-06 after 3 cycle(s) (last change"));
 }
 
 TEST(OutletRun, PeriodicityByTheCyclesNumbers) {

@@ -156,9 +156,9 @@ struct ModelDomain {
                   tuning::TuningStep& s) const {
     std::vector<bc::WindkesselBranch> branches;
     for (size_t i = 0; i < t.splits.size(); ++i)
-      for (const io::BoundaryCondition& b : tuned.boundary_conditions)
+      for (const bc::BoundaryCondition& b : tuned.boundary_conditions)
         if (b.face == t.splits[i].face) {
-          branches.push_back({b.face, b.rcr});
+          branches.push_back({b.face, std::get<bc::RcrOutlet>(b.outlet()->law).rcr});
           branches.back().rcr.proximal_resistance += h[i];
         }
     const bc::Waveform q = study_inflow();
@@ -195,18 +195,9 @@ io::Case or_case() {
   c.time.step = 0.01;
   c.time.period = 1.0;
   c.time.steps_per_cycle = 100;
-  io::BoundaryCondition inlet;
-  inlet.face = "inlet";
-  inlet.type = io::BcType::Inflow;
-  inlet.flow = study_inflow();
-  c.boundary_conditions = {inlet};
-  for (const char* face : {"BCT", "LCC", "LSA", "outlet"}) {
-    io::BoundaryCondition o;
-    o.face = face;
-    o.type = io::BcType::Windkessel;
-    o.rcr = {1e8, 1e-9, 1e9, 0.0};
-    c.boundary_conditions.push_back(o);
-  }
+  c.boundary_conditions = {{"inlet", bc::Inflow{study_inflow()}}};
+  for (const char* face : {"BCT", "LCC", "LSA", "outlet"})
+    c.boundary_conditions.push_back({face, bc::Outlet{bc::RcrOutlet{{1e8, 1e-9, 1e9, 0.0}, {}}}});
   return c;
 }
 

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bc/outlet.hpp"
 #include "bc/windkessel_network.hpp"
 #include "core/error.hpp"
 #include "run/cycle_summary.hpp"
@@ -31,7 +32,7 @@ TEST(Windkessel, StepLawIsTheTrapezoidalRuleAtAlphaF) {
   // The law P_af = p0 + r Q_af must equal P_d interpolated to t_af plus R_p Q_af, with P_d
   // advanced by the trapezoidal rule, for any end-of-step flux.
   const double pd_n = 900.0, q_n = 3e-6, dt = 0.01, af = 2.0 / 3.0;
-  const bc::OutletLaw law = bc::rcr_law(kRcr, pd_n, q_n, dt, af);
+  const bc::StepLaw law = bc::rcr_law(kRcr, pd_n, q_n, dt, af);
   for (double q_next : {0.0, 4e-6, -2e-6}) {
     const double pd_next = bc::distal_update(kRcr, pd_n, q_n, dt)(q_next);
     // The update satisfies the discrete ODE exactly.
@@ -43,6 +44,92 @@ TEST(Windkessel, StepLawIsTheTrapezoidalRuleAtAlphaF) {
     const double expected = pd_n + af * (pd_next - pd_n) + kRcr.proximal_resistance * q_af;
     EXPECT_NEAR(law.p0 + law.resistance * q_af, expected, 1e-9 * expected);
   }
+}
+
+// --- the outlet laws through bc/outlet.hpp -------------------------------------------------
+
+const bc::RcOutlet kRc{2.2e8, 1.5e-9, 500.0, {}}; // R C = 0.33 s
+
+/// P(t) of the RC outlet under a constant outflow Q from P(0) = p0, stepped by the law's own
+/// commit: n steps of dt.
+double rc_pressure_after(double p0, double q, double dt, int n) {
+  bc::RcOutlet law = kRc;
+  law.initial_pressure = p0;
+  bc::OutletState s = bc::initial_state(law);
+  for (int k = 0; k < n; ++k)
+    s = bc::commit(law, s, q, q, dt);
+  return *bc::distal_pressure(law, s);
+}
+
+TEST(OutletLaws, RcStepLawIsTheTrapezoidalRuleAtAlphaF) {
+  const double p_n = 9000.0, q_n = 3e-6, dt = 0.01, af = 2.0 / 3.0;
+  const bc::OutletState s = bc::RcOutlet::State{p_n};
+  const bc::StepLaw law = bc::step_law(kRc, s, q_n, {0.3, dt, af});
+  for (double q_next : {0.0, 4e-6, -2e-6}) {
+    const double p_next = *bc::distal_pressure(kRc, bc::commit(kRc, s, q_n, q_next, dt));
+    // C dP/dt = Q - (P - P_ref)/R by the trapezoidal rule, to round-off.
+    const double lhs = kRc.capacitance * (p_next - p_n) / dt;
+    const double rhs =
+        0.5 * (q_n + q_next) - (0.5 * (p_n + p_next) - kRc.reference_pressure) / kRc.resistance;
+    EXPECT_NEAR(lhs, rhs, 1e-12 * std::abs(q_n));
+    // No proximal resistance: the outlet pressure at t_af is P interpolated there.
+    const double q_af = q_n + af * (q_next - q_n);
+    EXPECT_NEAR(law.p0 + law.resistance * q_af, p_n + af * (p_next - p_n), 1e-9 * p_n);
+  }
+}
+
+TEST(OutletLaws, RcRelaxesToItsExactSolutionAtSecondOrder) {
+  // Constant Q from P(0) = p0: P(t) = P_inf + (p0 - P_inf) exp(-t / RC), P_inf = P_ref + R Q.
+  const double q = 5e-6, p0 = 2000.0, t = 0.5, tau = kRc.resistance * kRc.capacitance;
+  const double p_inf = kRc.reference_pressure + kRc.resistance * q;
+  const double exact = p_inf + (p0 - p_inf) * std::exp(-t / tau);
+  const double e1 = std::abs(rc_pressure_after(p0, q, 1e-2, 50) - exact);
+  const double e2 = std::abs(rc_pressure_after(p0, q, 5e-3, 100) - exact);
+  // The trapezoidal rule's global error on this linear ODE is about
+  // t dt^2 / (12 tau^3) |p0 - P_inf| exp(-t/tau): 3 % of that margin at dt = 10 ms.
+  const double bound =
+      t * 1e-4 / (12 * tau * tau * tau) * std::abs(p0 - p_inf) * std::exp(-t / tau);
+  EXPECT_LT(e1, 1.5 * bound);
+  EXPECT_GT(e1, 0.5 * bound);     // the estimate is the error's leading term, not a loose bound
+  EXPECT_NEAR(e1 / e2, 4.0, 0.1); // second order
+}
+
+TEST(OutletLaws, CheckpointRecordRoundTrips) {
+  const std::vector<std::pair<bc::OutletLaw, bc::OutletState>> cases = {
+      {bc::PressureOutlet{}, bc::initial_state(bc::PressureOutlet{})},
+      {bc::ResistanceOutlet{1e8, 0.0}, bc::initial_state(bc::ResistanceOutlet{1e8, 0.0})},
+      {bc::RcrOutlet{kRcr, {}}, bc::RcrOutlet::State{1234.5}},
+      {kRc, bc::RcOutlet::State{6789.25}}};
+  for (const auto& [law, state] : cases) {
+    std::vector<double> record;
+    bc::append_record(law, state, record);
+    ASSERT_EQ(record.size(), bc::record_size(law)) << bc::describe(law);
+    const bc::OutletState back = bc::restore(law, record);
+    EXPECT_EQ(back.index(), state.index());
+    EXPECT_EQ(bc::distal_pressure(law, back), bc::distal_pressure(law, state)) << bc::describe(law);
+  }
+  EXPECT_EQ(bc::record_size(bc::PressureOutlet{}), 0u);
+  EXPECT_EQ(bc::record_size(kRc), 1u);
+}
+
+TEST(OutletLaws, ZeroDBranchAndStart) {
+  EXPECT_FALSE(bc::zero_d_branch(bc::PressureOutlet{})); // it sets the pressure
+  const bc::WindkesselRCR r = *bc::zero_d_branch(bc::ResistanceOutlet{1e8, 300.0});
+  EXPECT_EQ(r.capacitance, 0.0);
+  EXPECT_EQ(r.proximal_resistance, 1e8);
+  EXPECT_EQ(r.reference_pressure, 300.0);
+  const bc::WindkesselRCR rc = *bc::zero_d_branch(kRc);
+  EXPECT_EQ(rc.proximal_resistance, 0.0);
+  EXPECT_EQ(rc.distal_resistance, kRc.resistance);
+  EXPECT_EQ(rc.capacitance, kRc.capacitance);
+  // The 0D start sets a law's state unless the case gave it.
+  EXPECT_EQ(bc::distal_pressure(kRc, *bc::start_state(kRc, 7000.0)), 7000.0);
+  bc::RcOutlet given = kRc;
+  given.initial_pressure = 100.0;
+  EXPECT_FALSE(bc::start_state(given, 7000.0));
+  EXPECT_FALSE(bc::start_state(bc::ResistanceOutlet{1e8, 0.0}, 7000.0)); // no state
+  EXPECT_FALSE(bc::coupled(bc::PressureOutlet{}));
+  EXPECT_TRUE(bc::coupled(kRc));
 }
 
 TEST(WindkesselNetwork, PeriodicStateSolvesTheOde) {

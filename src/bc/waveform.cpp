@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "core/digest.hpp"
 #include "core/error.hpp"
 
 namespace tearflow::bc {
@@ -383,6 +384,16 @@ Waveform read_simvascular_flow(const std::filesystem::path& file, double value_s
                 header_line, announced, s.size());
   check_monotone(file, s);
   return make(file, s, 0.0); // the last sample is at t = period and repeats the first
+}
+
+std::string describe(const Waveform& w) {
+  if (w.is_constant())
+    return fmt::format("{}", w(0.0));
+  std::vector<double> v;
+  for (int k = 0; k < 97; ++k)
+    v.push_back(w(w.period() * k / 97.0));
+  return fmt::format("period {} s, digest {:016x}", w.period(),
+                     fnv1a(v.data(), v.size() * sizeof(double)));
 }
 
 } // namespace tearflow::bc

@@ -55,4 +55,9 @@ Waveform read_waveform_csv(const std::filesystem::path& file, double time_scale,
 /// in the file's units; the last sample closes the period. value_scale converts flow to SI.
 Waveform read_simvascular_flow(const std::filesystem::path& file, double value_scale);
 
+/// A waveform as what a run sees of it: its value, or its period and a digest of its values
+/// at 97 times over the period (whatever samples and interpolation gave it). For a run's
+/// fingerprint.
+std::string describe(const Waveform& w);
+
 } // namespace tearflow::bc

@@ -12,9 +12,9 @@
 // within the step as an affine function of the flux the 3D problem sees:
 //   P_af = P_d^n + alpha_f (P_d^{n+1} - P_d^n) + R_p Q_af = p0 + r Q_af,
 //   r = R_p + b,   p0 = P_d^n + alpha_f (a + b Q^n - P_d^n) - b Q^n.                      (3)
-// A resistance outlet (P = P_ref + R Q) and a pressure outlet (P = P_0(t)) are the same law
-// with r = R and r = 0, so the 3D problem needs one mechanism only: P_af = p0 + r Q_af,
-// with dP/dQ = r in its Newton tangent.
+// This is outlet_step.hpp's (1); outlet_rcr.hpp is the outlet law built on it.
+#include "bc/outlet_step.hpp"
+
 namespace tearflow::bc {
 
 struct WindkesselRCR {
@@ -22,12 +22,6 @@ struct WindkesselRCR {
   double capacitance = 0.0;         ///< C [m^3/Pa], > 0
   double distal_resistance = 0.0;   ///< R_d [Pa s/m^3], > 0
   double reference_pressure = 0.0;  ///< P_ref, the pressure R_d drains to [Pa]
-};
-
-/// P_af = p0 + resistance * Q_af during one step.
-struct OutletLaw {
-  double p0 = 0.0;
-  double resistance = 0.0;
 };
 
 /// (2): the trapezoidal update P_d^{n+1} = a + b Q^{n+1}.
@@ -44,8 +38,7 @@ inline DistalUpdate distal_update(const WindkesselRCR& w, double pd_n, double q_
 }
 
 /// (3): the RCR outlet's law during the step from (P_d^n, Q^n).
-inline OutletLaw rcr_law(const WindkesselRCR& w, double pd_n, double q_n, double dt,
-                         double alpha_f) {
+inline StepLaw rcr_law(const WindkesselRCR& w, double pd_n, double q_n, double dt, double alpha_f) {
   const DistalUpdate d = distal_update(w, pd_n, q_n, dt);
   return {pd_n + alpha_f * (d(q_n) - pd_n) - d.b * q_n, w.proximal_resistance + d.b};
 }

@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/units.hpp"
+#include "io/case_conditions.hpp"
 #include "io/case_waveform.hpp"
 #include "io/case_yaml.hpp"
 
@@ -172,23 +173,18 @@ TimeSpec read_time(const YamlValue& v, RunLength& length) {
 
 /// The cardiac period: time.period if given, else the waveforms' common period; every
 /// periodic waveform must have it. Then the run length in steps.
-void resolve_period(Case& c, const YamlValue& time_node, const YamlValue& bcs_node,
+void resolve_period(Case& c, const YamlValue& time_node, const std::vector<GivenWaveform>& periodic,
                     const RunLength& length) {
-  const std::vector<YamlValue> items = bcs_node.items();
-  for (size_t i = 0; i < c.boundary_conditions.size(); ++i) {
-    const BoundaryCondition& b = c.boundary_conditions[i];
-    const bc::Waveform& w = b.type == BcType::Inflow ? b.flow : b.pressure;
-    if (w.is_constant())
-      continue;
-    const char* key = b.type == BcType::Inflow ? "flow" : "pressure";
+  for (const GivenWaveform& given : periodic) {
+    const bc::Waveform& w = given.waveform;
     if (c.time.period == 0.0) {
       c.time.period = w.period();
     } else if (std::abs(w.period() - c.time.period) > 1e-9 * c.time.period) {
-      const YamlValue where = items[i].get(key).value_or(items[i]);
-      where.fail(fmt::format("the waveform's period is {} s but the case's period is {} s ({}); "
-                             "give every waveform over the same cardiac cycle",
-                             w.period(), c.time.period,
-                             time_node.has("period") ? "time.period" : "from an earlier waveform"));
+      given.where.fail(
+          fmt::format("the waveform's period is {} s but the case's period is {} s "
+                      "({}); give every waveform over the same cardiac cycle",
+                      w.period(), c.time.period,
+                      time_node.has("period") ? "time.period" : "from an earlier waveform"));
     }
   }
   if (c.time.period > 0.0) {
@@ -263,156 +259,6 @@ OutputSpec read_output(const std::optional<YamlValue>& v, const std::string& nam
   return output;
 }
 
-// --- boundary conditions -----------------------------------------------------------------
-
-BcType read_bc_type(const YamlValue& v) {
-  const std::string type = v.choice({"no_slip", "inflow", "pressure", "resistance", "rcr"});
-  if (type == "rcr")
-    return BcType::Windkessel;
-  if (type == "inflow")
-    return BcType::Inflow;
-  if (type == "pressure")
-    return BcType::Pressure;
-  if (type == "resistance")
-    return BcType::Resistance;
-  return BcType::NoSlip;
-}
-
-InflowProfile read_profile(const YamlValue& v) {
-  const std::string profile = v.choice({"parabolic", "plug", "womersley"});
-  if (profile == "plug")
-    return InflowProfile::Plug;
-  if (profile == "womersley")
-    return InflowProfile::Womersley;
-  return InflowProfile::Parabolic;
-}
-
-BoundaryCondition read_bc(const YamlValue& v, const fs::path& case_dir) {
-  if (!v.is_map())
-    v.fail_expected("a mapping with face, type and the type's keys");
-  // First against every key any condition takes (to catch typos), then against the type's.
-  v.check_keys({"face", "type", "flow", "units", "profile", "womersley_modes", "pressure",
-                "resistance", "backflow_beta", "distal_pressure", "proximal_resistance",
-                "capacitance", "distal_resistance", "initial_distal_pressure"});
-  BoundaryCondition bc;
-  const YamlValue face = v.require("face", "the name of a mesh face");
-  bc.face = face.text();
-  if (bc.face.empty())
-    face.fail_expected("the name of a mesh face");
-  const YamlValue type = v.require("type", "no_slip, inflow, pressure, resistance or rcr");
-  bc.type = read_bc_type(type);
-  const std::string reason = fmt::format("type: {}", type.text());
-
-  // A key of another condition type is reported as not applying here, with this type.
-  auto check = [&](std::initializer_list<std::string_view> own) {
-    std::vector<std::string_view> allowed = {"face", "type"};
-    allowed.insert(allowed.end(), own.begin(), own.end());
-    for (const auto& [key, value] : v.entries())
-      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
-        value.fail(fmt::format("key '{}' does not apply here ({}); allowed keys: {}", key, reason,
-                               fmt::join(allowed, ", ")));
-  };
-  auto pressure_value = [&](const YamlValue& x) {
-    return read_case_waveform(x, v.get("units"), kPressure, case_dir);
-  };
-  auto constant_pressure = [&](const char* key) {
-    const YamlValue x = *v.get(key);
-    const bc::Waveform w = pressure_value(x);
-    if (!w.is_constant())
-      x.fail_expected("a constant pressure (a number, in `units` if given)");
-    return w(0.0);
-  };
-
-  switch (bc.type) {
-  case BcType::NoSlip:
-    check({});
-    break;
-  case BcType::Inflow: {
-    check({"flow", "units", "profile", "womersley_modes"});
-    const YamlValue flow =
-        v.require("flow", "the volume flow into the domain: a number (m3/s unless units "
-                          "says otherwise) or a mapping with file or times/values");
-    bc.flow = read_case_waveform(flow, v.get("units"), kFlow, case_dir);
-    // A human aorta's peak flow is about 0.5 L/s; 5 L/s and more is a flow in other units
-    // read as m^3/s (300 mL/s read as 300 m^3/s ended in a Newton failure at step 1).
-    double peak = std::abs(bc.flow(0.0));
-    for (int k = 1; !bc.flow.is_constant() && k < 1000; ++k)
-      peak = std::max(peak, std::abs(bc.flow(bc.flow.period() * k / 1000.0)));
-    if (peak > 5e-3)
-      flow.fail(fmt::format("a peak of {:.4g} m^3/s ({:.4g} L/s) is no blood flow; {}", peak,
-                            peak * 1e3,
-                            v.has("units") ? "check the values against the units given"
-                                           : "the values are probably in mL/s: add `units: mL/s` "
-                                             "to the boundary condition"));
-    if (auto p = v.get("profile")) {
-      bc.profile = read_profile(*p);
-      if (bc.profile == InflowProfile::Womersley && bc.flow.is_constant())
-        p->fail("profile womersley needs a periodic flow (file or times/values); use "
-                "parabolic for a constant flow");
-    }
-    if (auto m = v.get("womersley_modes")) {
-      if (bc.profile != InflowProfile::Womersley)
-        m->fail("womersley_modes applies to profile: womersley only");
-      bc.womersley_modes = m->integer(1);
-      // Each mode costs Bessel evaluations per inflow node and memory per node: a sampled
-      // waveform has no harmonics that far up (the default is 16), and 1e6 ran for minutes.
-      if (bc.womersley_modes > 256)
-        m->fail_expected("an integer from 1 to 256");
-    }
-    break;
-  }
-  case BcType::Pressure:
-    check({"pressure", "units", "backflow_beta"});
-    if (auto p = v.get("pressure"))
-      bc.pressure = pressure_value(*p);
-    else if (auto u = v.get("units"))
-      u->fail("units applies to pressure, which is not given (it defaults to 0)");
-    break;
-  case BcType::Resistance:
-    check({"resistance", "distal_pressure", "units", "backflow_beta"});
-    bc.resistance =
-        v.require("resistance", "the outlet resistance in Pa s/m^3, a number > 0").positive();
-    if (v.has("distal_pressure"))
-      bc.distal_pressure = constant_pressure("distal_pressure");
-    break;
-  case BcType::Windkessel:
-    check({"proximal_resistance", "capacitance", "distal_resistance", "distal_pressure",
-           "initial_distal_pressure", "units", "backflow_beta"});
-    // R_p may be 0 (a two-element Windkessel); C and R_d must be > 0 for the ODE (1).
-    bc.rcr.proximal_resistance =
-        v.require("proximal_resistance", "R_p in Pa s/m^3, a number >= 0").non_negative();
-    bc.rcr.capacitance = v.require("capacitance", "C in m^3/Pa, a number > 0").positive();
-    bc.rcr.distal_resistance =
-        v.require("distal_resistance", "R_d in Pa s/m^3, a number > 0").positive();
-    if (v.has("distal_pressure"))
-      bc.distal_pressure = constant_pressure("distal_pressure");
-    bc.rcr.reference_pressure = bc.distal_pressure;
-    if (v.has("initial_distal_pressure"))
-      bc.initial_distal_pressure = constant_pressure("initial_distal_pressure");
-    break;
-  }
-  if (auto beta = v.get("backflow_beta"))
-    bc.backflow_beta = beta->non_negative();
-  return bc;
-}
-
-std::vector<BoundaryCondition> read_bcs(const YamlValue& v, const fs::path& case_dir) {
-  const std::vector<YamlValue> items = v.items();
-  if (items.empty())
-    v.fail("expected at least one boundary condition");
-  std::vector<BoundaryCondition> bcs;
-  std::map<std::string, YamlValue> first_use; // face -> its `face` key
-  for (const YamlValue& item : items) {
-    bcs.push_back(read_bc(item, case_dir));
-    const YamlValue face = *item.get("face");
-    if (auto [it, inserted] = first_use.emplace(bcs.back().face, face); !inserted)
-      face.fail(fmt::format("face '{}' already has a boundary condition ({}, line {}); give "
-                            "each face once",
-                            bcs.back().face, it->second.path(), it->second.line()));
-  }
-  return bcs;
-}
-
 std::string read_name(const std::optional<YamlValue>& v, const fs::path& file) {
   if (!v)
     return file.stem().string();
@@ -452,8 +298,9 @@ Case load_case(const fs::path& file) {
   } else {
     const YamlValue bcs_node =
         root.require("boundary_conditions", "a list of {face: ..., type: ...} mappings");
-    c.boundary_conditions = read_bcs(bcs_node, case_dir);
-    resolve_period(c, time_node, bcs_node, length);
+    std::vector<GivenWaveform> periodic;
+    c.boundary_conditions = read_boundary_conditions(bcs_node, case_dir, periodic);
+    resolve_period(c, time_node, periodic, length);
   }
   if (auto newton = root.get("newton"))
     c.newton = read_newton(*newton);
@@ -523,16 +370,14 @@ void check_case_against_mesh(const Case& c, const mesh::Mesh& m) {
       unused.push_back(name);
   // An incompressible fluid cannot enter a closed rigid domain (Newton then failed at step
   // 1); a compliant one stores a cycle's net volume for ever, so only a zero-mean inflow.
-  const bool open = std::any_of(
-      c.boundary_conditions.begin(), c.boundary_conditions.end(), [](const BoundaryCondition& b) {
-        return b.type == BcType::Pressure || b.type == BcType::Resistance ||
-               b.type == BcType::Windkessel;
-      });
+  const bool open =
+      std::any_of(c.boundary_conditions.begin(), c.boundary_conditions.end(),
+                  [](const bc::BoundaryCondition& b) { return b.outlet() != nullptr; });
   for (size_t i = 0; i < c.boundary_conditions.size() && !open; ++i) {
-    const BoundaryCondition& b = c.boundary_conditions[i];
-    if (b.type == BcType::Inflow && (!is_fsi(c) || std::abs(b.flow.mean()) > 0.0))
+    const bc::BoundaryCondition& b = c.boundary_conditions[i];
+    if (b.inflow() && (!is_fsi(c) || std::abs(b.inflow()->flow.mean()) > 0.0))
       input_error("{}: boundary_conditions[{}]: flow enters through '{}' but no face lets it "
-                  "out (no pressure, resistance or rcr condition{}): {}",
+                  "out (no outlet condition{}): {}",
                   source, i, b.face,
                   unused.empty()
                       ? ""

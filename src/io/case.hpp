@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "bc/boundary_condition.hpp"
 #include "bc/waveform.hpp"
-#include "bc/windkessel.hpp"
 #include "io/case_solid.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pipe_generator.hpp"
@@ -57,28 +57,6 @@ struct TimeSpec {
   bool start_from_0d = true;
 };
 
-enum class BcType { NoSlip, Inflow, Pressure, Resistance, Windkessel };
-enum class InflowProfile { Parabolic, Plug, Womersley };
-
-struct BoundaryCondition {
-  std::string face;
-  BcType type = BcType::NoSlip;
-  // Inflow: volume flow into the domain [m^3/s] and its spatial profile.
-  bc::Waveform flow = bc::Waveform::constant(0.0);
-  InflowProfile profile = InflowProfile::Parabolic;
-  int womersley_modes = 16;
-  // Pressure outlet: normal traction -P n [Pa].
-  bc::Waveform pressure = bc::Waveform::constant(0.0);
-  // Resistance outlet: P = distal_pressure + resistance * Q [Pa s/m^3].
-  double resistance = 0.0;
-  double distal_pressure = 0.0; ///< P_ref of resistance and RCR outlets [Pa]
-  // RCR outlet (reference_pressure = distal_pressure); the initial P_d when given.
-  bc::WindkesselRCR rcr;
-  std::optional<double> initial_distal_pressure;
-  // Outlets (pressure, resistance): backflow stabilization coefficient.
-  double backflow_beta = 0.2;
-};
-
 struct OutputSpec {
   std::filesystem::path directory; ///< absolute; default `results/<name>` under the cwd
   int every = 10;                  ///< save a VTU every n steps (0: only the last)
@@ -91,7 +69,7 @@ struct Case {
   MeshSpec mesh;
   FluidSpec fluid;
   TimeSpec time;
-  std::vector<BoundaryCondition> boundary_conditions;
+  std::vector<bc::BoundaryCondition> boundary_conditions; ///< bc/boundary_condition.hpp
   std::optional<SolidSpec> solid; ///< the wall; a solid-only case has no fluid conditions
   physics::NewtonSpec newton;
   std::string petsc_options; ///< passed to PETSc's options database as is

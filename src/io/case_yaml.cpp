@@ -18,10 +18,6 @@ namespace tearflow::io {
 
 namespace {
 
-std::vector<std::string> to_strings(std::initializer_list<std::string_view> names) {
-  return {names.begin(), names.end()};
-}
-
 std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates) {
   const std::string best = nearest_name(word, candidates);
   return best.empty() ? "" : fmt::format(" (did you mean '{}'?)", best);
@@ -130,7 +126,14 @@ std::vector<std::pair<std::string, YamlValue>> YamlValue::entries() const {
 void YamlValue::check_keys(std::initializer_list<std::string_view> allowed,
                            std::initializer_list<std::string_view> elsewhere,
                            std::string_view elsewhere_reason) const {
-  const std::vector<std::string> names = to_strings(allowed);
+  check_keys(std::vector<std::string_view>(allowed), std::vector<std::string_view>(elsewhere),
+             elsewhere_reason);
+}
+
+void YamlValue::check_keys(const std::vector<std::string_view>& allowed,
+                           const std::vector<std::string_view>& elsewhere,
+                           std::string_view elsewhere_reason) const {
+  const std::vector<std::string> names(allowed.begin(), allowed.end());
   for (const auto& [key, value] : entries()) {
     if (std::find(names.begin(), names.end(), key) != names.end())
       continue;
@@ -237,7 +240,11 @@ std::string YamlValue::text() const {
 }
 
 std::string YamlValue::choice(std::initializer_list<std::string_view> choices) const {
-  const std::vector<std::string> names = to_strings(choices);
+  return choice(std::vector<std::string_view>(choices));
+}
+
+std::string YamlValue::choice(const std::vector<std::string_view>& choices) const {
+  const std::vector<std::string> names(choices.begin(), choices.end());
   if (!node_.IsScalar())
     fail_expected(fmt::format("one of {}", join_names(names)));
   const std::string s = node_.Scalar();

@@ -51,6 +51,9 @@ public:
   void check_keys(std::initializer_list<std::string_view> allowed,
                   std::initializer_list<std::string_view> elsewhere = {},
                   std::string_view elsewhere_reason = "") const;
+  void check_keys(const std::vector<std::string_view>& allowed,
+                  const std::vector<std::string_view>& elsewhere = {},
+                  std::string_view elsewhere_reason = "") const;
   /// Key/value pairs in document order; fails unless a mapping (or null).
   std::vector<std::pair<std::string, YamlValue>> entries() const;
   bool has(std::string_view key) const;
@@ -70,6 +73,7 @@ public:
   std::string text() const;                    ///< any scalar, as written
   /// One of `choices` (exact spelling); otherwise fails listing them and the nearest one.
   std::string choice(std::initializer_list<std::string_view> choices) const;
+  std::string choice(const std::vector<std::string_view>& choices) const;
   std::vector<double> numbers() const; ///< a list of finite numbers
 
   /// How the node reads in a message: 'text', a mapping, a list, nothing.

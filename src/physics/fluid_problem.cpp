@@ -77,7 +77,7 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
   }
 
   for (const bc::TractionOutlet& spec : conditions_.outlets) {
-    OutletData o{spec, 0, dofs_.create_global(), 0.0, {spec.initial_distal_pressure, 0.0}, {}};
+    OutletData o{spec, 0, dofs_.create_global(), 0.0, {bc::initial_state(spec.law), 0.0}, {}};
     const auto& faces = dmesh.faces();
     o.face_index = std::find_if(faces.begin(), faces.end(),
                                 [&](const fem::LocalFace& f) { return f.name == spec.face; }) -
@@ -141,11 +141,9 @@ void FluidProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
         mean[c] += 0.25 * (un[B_ * l + c] - w_[l][c]);
     stab_[e] = stabilization(geometry_[e], mean, fluid_, dt);
   }
-  const double t_af = t_n + scheme_.alpha_f * dt;
+  const bc::StepClock clock{t_n, dt, scheme_.alpha_f};
   for (OutletData& o : outlets_)
-    o.law = o.spec.rcr ? bc::rcr_law(*o.spec.rcr, o.state.distal_pressure, o.state.flux, dt,
-                                     scheme_.alpha_f)
-                       : bc::OutletLaw{o.spec.pressure(t_af), o.spec.resistance};
+    o.law = bc::step_law(o.spec.law, o.state.law, o.state.flux, clock);
 }
 
 template <typename Velocity>
@@ -173,16 +171,14 @@ void FluidProblem::commit_step(Vec U_next) {
   }
   for (size_t i = 0; i < outlets_.size(); ++i) {
     OutletData& o = outlets_[i];
-    if (o.spec.rcr)
-      o.state.distal_pressure =
-          bc::distal_update(*o.spec.rcr, o.state.distal_pressure, o.state.flux, dt_)(q_next[i]);
+    o.state.law = bc::commit(o.spec.law, o.state.law, o.state.flux, q_next[i], dt_);
     o.state.flux = q_next[i];
   }
 }
 
 bool FluidProblem::has_coupled_outlets() const {
   return std::any_of(outlets_.begin(), outlets_.end(),
-                     [](const OutletData& o) { return o.spec.rcr || o.spec.resistance != 0.0; });
+                     [](const OutletData& o) { return bc::coupled(o.spec.law); });
 }
 
 std::vector<FluidProblem::OutletState> FluidProblem::outlet_states() const {
@@ -192,18 +188,22 @@ std::vector<FluidProblem::OutletState> FluidProblem::outlet_states() const {
   return s;
 }
 
-void FluidProblem::set_outlet_rcr(size_t i, const bc::WindkesselRCR& rcr) {
-  if (i >= outlets_.size() || !outlets_[i].spec.rcr)
-    throw std::logic_error("set_outlet_rcr: outlet " + std::to_string(i) + " is no RCR outlet");
-  outlets_[i].spec.rcr = rcr;
-  conditions_.outlets[i].rcr = rcr;
+void FluidProblem::set_outlet_law(size_t i, const bc::OutletLaw& law) {
+  if (i >= outlets_.size() || !bc::same_law(outlets_[i].spec.law, law))
+    throw std::logic_error("set_outlet_law: outlet " + std::to_string(i) +
+                           " has another law; its state would not fit");
+  outlets_[i].spec.law = law;
+  conditions_.outlets[i].law = law;
 }
 
 void FluidProblem::set_outlet_states(const std::vector<OutletState>& states) {
   if (states.size() != outlets_.size())
     input_error("{} outlet states given for {} outlets", states.size(), outlets_.size());
-  for (size_t i = 0; i < outlets_.size(); ++i)
+  for (size_t i = 0; i < outlets_.size(); ++i) {
+    if (states[i].law.index() != outlets_[i].state.law.index())
+      throw std::logic_error("set_outlet_states: a state of another outlet law");
     outlets_[i].state = states[i];
+  }
 }
 
 void FluidProblem::apply_dirichlet(Vec U) const {

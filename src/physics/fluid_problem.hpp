@@ -3,11 +3,11 @@
 // node, assembled from navier_stokes_kernel.hpp and the boundary conditions:
 //   - no-slip and inflow velocities are Dirichlet rows  R = U - g(t_{n+1});
 //   - traction outlets add  -<w, h>  with  h = -P n + beta rho (u.n)_- u  and, during a step,
-//     P = p0 + r Q (bc/windkessel.hpp: pressure, resistance and RCR outlets alike).
+//     P = p0 + r Q (bc/outlet_step.hpp: every outlet law of bc/outlet.hpp alike).
 // The outlet law couples every node of the face through Q = int u.n; its Jacobian is the
 // low-rank term  r c_u v v^T  (v_ai = int N_a n_i), applied matrix-free by
-// add_coupled_outlets so the assembled matrix keeps its sparsity. The RCR's distal pressure
-// advances in commit_step once the step has converged.
+// add_coupled_outlets so the assembled matrix keeps its sparsity. A law's 0D state (an RCR's
+// distal pressure) advances in commit_step once the step has converged.
 //
 // The same class assembles the fluid part of the FSI system (fsi_problem.hpp): a
 // FieldLayout places its unknowns in a larger node block and restricts it to the fluid
@@ -87,20 +87,21 @@ public:
 
   /// Advances the outlets' 0D states to t_{n+1} from the converged U_{n+1} (collective).
   void commit_step(Vec U_next);
-  /// True when some outlet's law has dP/dQ != 0 (resistance or RCR): the Jacobian then
+  /// True when some outlet's law has dP/dQ != 0 (bc::coupled): the Jacobian then
   /// needs add_coupled_outlets.
   bool has_coupled_outlets() const;
 
   /// The 0D state of every traction outlet, in the order of conditions().outlets.
   struct OutletState {
-    double distal_pressure = 0.0; ///< P_d of an RCR [Pa] (0 for other outlets)
-    double flux = 0.0;            ///< Q at t_n [m^3/s]
+    bc::OutletState law; ///< the outlet law's own state (bc/outlet.hpp) at t_n
+    double flux = 0.0;   ///< Q at t_n [m^3/s]
   };
   std::vector<OutletState> outlet_states() const;
   void set_outlet_states(const std::vector<OutletState>& states);
-  /// Replaces the RCR of outlet i (in the order of conditions().outlets) from the next step
-  /// on; its 0D state stays (in-run tuning, tuning/corrected_run.hpp).
-  void set_outlet_rcr(size_t i, const bc::WindkesselRCR& rcr);
+  /// Replaces the parameters of outlet i's law (in the order of conditions().outlets; the
+  /// same law) from the next step on; its 0D state stays (in-run tuning,
+  /// tuning/corrected_run.hpp).
+  void set_outlet_law(size_t i, const bc::OutletLaw& law);
   const bc::FluidConditions& conditions() const { return conditions_; }
 
   /// Per face of the fluid (wall-only faces of an FSI mesh left out), in mesh order.
@@ -113,7 +114,7 @@ private:
     fem::OwnedVec v;   ///< int N_a n_i, zero on Dirichlet dofs
     double flux = 0.0; ///< Q_af of the current iterate
     OutletState state; ///< at t_n
-    bc::OutletLaw law; ///< P_af = p0 + r Q_af during the current step
+    bc::StepLaw law;   ///< P_af = p0 + r Q_af during the current step
   };
 
   void stage(Vec U); ///< local U -> u_af, udot_am, p per local node

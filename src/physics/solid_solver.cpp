@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "fem/petsc.hpp"
+
 namespace tearflow::physics {
 
 namespace {
@@ -13,7 +15,7 @@ namespace {
 /// MUMPS LU 26 s; HMIS coarsening with ext+i interpolation, P_max 4 and one level of
 /// aggressive coarsening (strong threshold 0.7 for the 3D vector block) on both blocks and
 /// an upper-triangular Schur factorization 1.4 s.
-std::vector<std::pair<const char*, const char*>> default_solid_options() {
+fem::OptionList default_solid_options() {
   return {{"-solid_pc_type", "fieldsplit"},
           {"-solid_pc_fieldsplit_type", "schur"},
           {"-solid_pc_fieldsplit_schur_fact_type", "upper"},
@@ -64,9 +66,7 @@ SolidSolver::SolidSolver(SolidProblem& problem, const physics::NewtonSpec& newto
   TF_PETSC(KSPSetType(ksp, KSPGMRES));
   TF_PETSC(KSPGMRESSetRestart(ksp, 200));
   TF_PETSC(KSPSetTolerances(ksp, 1e-6, 1e-50, PETSC_DEFAULT, 1000));
-  for (const auto& [name, value] : default_solid_options())
-    if (!option_set(name))
-      TF_PETSC(PetscOptionsSetValue(nullptr, name, value));
+  fem::set_default_options(default_solid_options());
   TF_PETSC(SNESSetFromOptions(snes_));
   set_default_split();
   TF_PETSC(SNESSetConvergenceHistory(snes_, residual_history_.data(), nullptr,

@@ -20,14 +20,10 @@ namespace {
 
 /// RCRs from the study's OR totals distributed by its measured flow splits:
 /// R_i = R_T / f_i, R_p = (1 - k_d) R_i, R_d = k_d R_i, C_i = C_T f_i.
-io::BoundaryCondition study_outlet(const std::string& face, double split_percent) {
+bc::BoundaryCondition study_outlet(const std::string& face, double split_percent) {
   constexpr double R_T = 150e6, C_T = 6.74e-9, k_d = 0.84, total_percent = 100.0;
   const double f = split_percent / total_percent, R = R_T / f;
-  io::BoundaryCondition b;
-  b.face = face;
-  b.type = io::BcType::Windkessel;
-  b.rcr = {(1.0 - k_d) * R, C_T * f, k_d * R, 0.0};
-  return b;
+  return {face, bc::Outlet{bc::RcrOutlet{{(1.0 - k_d) * R, C_T * f, k_d * R, 0.0}, {}}}};
 }
 
 } // namespace
@@ -53,18 +49,12 @@ io::Case default_case() {
   c.time.period = 1.0;
   c.time.steps_per_cycle = 200;
   c.time.steps = 400;
-  io::BoundaryCondition wall, inlet;
-  wall.face = "interface";
-  inlet.face = "inlet";
-  inlet.type = io::BcType::Inflow;
-  inlet.flow = bc::typical_aortic_inflow(74.1e-6, 300e-6, 1.0); // SV 74.1 mL, peak 300 mL/s
+  const bc::Inflow inflow{bc::typical_aortic_inflow(74.1e-6, 300e-6, 1.0)}; // SV 74.1 mL,
+                                                                            // peak 300 mL/s
   // Measured flow splits, % of outflow (they sum to 100).
-  c.boundary_conditions = {wall,
-                           inlet,
-                           study_outlet("BCT", 15.0),
-                           study_outlet("LCC", 3.1),
-                           study_outlet("LSA", 5.4),
-                           study_outlet("outlet", 76.5)};
+  c.boundary_conditions = {{"interface", bc::NoSlip{}}, {"inlet", inflow},
+                           study_outlet("BCT", 15.0),   study_outlet("LCC", 3.1),
+                           study_outlet("LSA", 5.4),    study_outlet("outlet", 76.5)};
   c.newton = {10, 1e-6, 1e-12};
   c.output.every = 10;
   c.output.checkpoint_every = 50;

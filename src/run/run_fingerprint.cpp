@@ -15,39 +15,13 @@ namespace tearflow::run {
 
 namespace {
 
-std::uint64_t digest(const std::vector<double>& v) {
-  return fnv1a(v.data(), v.size() * sizeof(double));
-}
-
-/// A waveform as its values at 97 times over its period (or its one value): what the run
-/// sees of it, whatever samples and interpolation gave it.
-std::string waveform(const bc::Waveform& w) {
-  if (w.is_constant())
-    return fmt::format("{}", w(0.0));
-  std::vector<double> v;
-  for (int k = 0; k < 97; ++k)
-    v.push_back(w(w.period() * k / 97.0));
-  return fmt::format("period {} s, digest {:016x}", w.period(), digest(v));
-}
-
-std::string condition(const io::BoundaryCondition& b) {
-  switch (b.type) {
-  case io::BcType::NoSlip:
-    return "no_slip";
-  case io::BcType::Inflow:
-    return fmt::format("inflow {} (profile {}, {} modes)", waveform(b.flow),
-                       static_cast<int>(b.profile), b.womersley_modes);
-  case io::BcType::Pressure:
-    return fmt::format("pressure {} Pa, backflow {}", waveform(b.pressure), b.backflow_beta);
-  case io::BcType::Resistance:
-    return fmt::format("resistance {} Pa s/m^3 to {} Pa, backflow {}", b.resistance,
-                       b.distal_pressure, b.backflow_beta);
-  case io::BcType::Windkessel:
-    return fmt::format("rcr R_p {}, C {}, R_d {}, P_ref {}, backflow {}", b.rcr.proximal_resistance,
-                       b.rcr.capacitance, b.rcr.distal_resistance, b.rcr.reference_pressure,
-                       b.backflow_beta);
-  }
-  return "?";
+std::string condition(const bc::BoundaryCondition& b) {
+  if (const bc::Inflow* in = b.inflow())
+    return fmt::format("inflow {} (profile {}, {} modes)", bc::describe(in->flow),
+                       static_cast<int>(in->profile), in->womersley_modes);
+  if (const bc::Outlet* o = b.outlet())
+    return fmt::format("{}, backflow {}", bc::describe(o->law), o->backflow_beta);
+  return "no_slip";
 }
 
 } // namespace
@@ -67,7 +41,7 @@ io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
   if (c.fluid.stabilization_time_scale > 0.0)  // a part of its own only when set: older
     f.emplace_back("stabilization time scale", // checkpoints keep matching
                    fmt::format("{} s", c.fluid.stabilization_time_scale));
-  for (const io::BoundaryCondition& b : c.boundary_conditions)
+  for (const bc::BoundaryCondition& b : c.boundary_conditions)
     f.emplace_back("face " + b.face, condition(b));
   if (c.solid) {
     const physics::SolidMaterial& s = c.solid->material;
@@ -81,7 +55,7 @@ io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
                      fmt::format("fixed {:03b} at ({}, {}, {}) m over {} s", x.components,
                                  x.displacement[0], x.displacement[1], x.displacement[2], x.ramp));
     for (const bc::PressureLoad& x : c.solid->conditions.loads)
-      f.emplace_back("wall face " + x.face, "pressure " + waveform(x.pressure));
+      f.emplace_back("wall face " + x.face, "pressure " + bc::describe(x.pressure));
     for (const bc::RobinSupport& x : c.solid->conditions.supports)
       f.emplace_back("wall face " + x.face, fmt::format("support k {} Pa/m, c {} Pa s/m, p_0 {} Pa",
                                                         x.stiffness, x.damping, x.pressure));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <span>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -65,38 +66,16 @@ bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m) {
   if (!io::is_fsi(c))
     for (const mesh::Face& f : m.faces)
       if (std::none_of(c.boundary_conditions.begin(), c.boundary_conditions.end(),
-                       [&](const io::BoundaryCondition& b) { return b.face == f.name; }))
+                       [&](const bc::BoundaryCondition& b) { return b.face == f.name; }))
         out.walls.push_back(f.name);
-  for (const io::BoundaryCondition& b : c.boundary_conditions) {
-    switch (b.type) {
-    case io::BcType::NoSlip:
+  for (const bc::BoundaryCondition& b : c.boundary_conditions) {
+    if (std::holds_alternative<bc::NoSlip>(b.kind))
       out.walls.push_back(b.face);
-      break;
-    case io::BcType::Inflow: {
-      const bc::ProfileShape shape = b.profile == io::InflowProfile::Plug ? bc::ProfileShape::Plug
-                                     : b.profile == io::InflowProfile::Womersley
-                                         ? bc::ProfileShape::Womersley
-                                         : bc::ProfileShape::Parabolic;
-      out.inflows.emplace_back(m, m.face(b.face), b.flow, shape, c.fluid.density, c.fluid.viscosity,
-                               b.womersley_modes);
-      break;
-    }
-    case io::BcType::Pressure:
-      out.outlets.push_back({b.face, b.pressure, 0.0, b.backflow_beta, {}, 0.0});
-      break;
-    case io::BcType::Resistance:
-      out.outlets.push_back({b.face,
-                             bc::Waveform::constant(b.distal_pressure),
-                             b.resistance,
-                             b.backflow_beta,
-                             {},
-                             0.0});
-      break;
-    case io::BcType::Windkessel:
-      out.outlets.push_back({b.face, bc::Waveform::constant(0.0), 0.0, b.backflow_beta, b.rcr,
-                             b.initial_distal_pressure.value_or(0.0)});
-      break;
-    }
+    else if (const bc::Inflow* in = b.inflow())
+      out.inflows.emplace_back(m, m.face(b.face), in->flow, in->profile, c.fluid.density,
+                               c.fluid.viscosity, in->womersley_modes);
+    else if (const bc::Outlet* o = b.outlet())
+      out.outlets.push_back({b.face, o->law, o->backflow_beta});
   }
   return out;
 }
@@ -106,7 +85,10 @@ struct Simulation::Output {
   std::unique_ptr<io::VtuSeries> series;
 };
 
-Simulation::Simulation(io::Case c, MPI_Comm comm) : case_(std::move(c)), mesh_(load_mesh(case_)) {
+Simulation::Simulation(io::Case c, MPI_Comm comm)
+    : case_(std::move(c)), mesh_(load_mesh(case_)),
+      options_(std::make_unique<fem::SolverOptions>(case_.petsc_options)) {
+  const fem::SolverOptions::Scope options(*options_);
   dmesh_ = std::make_unique<fem::DistributedMesh>(mesh_, comm);
   const physics::FluidProperties fluid{case_.fluid.density, case_.fluid.viscosity,
                                        case_.fluid.stabilization_time_scale};
@@ -161,11 +143,12 @@ void Simulation::start_from_0d() {
   std::vector<physics::FluidProblem::OutletState> states = problem.outlet_states();
   std::string told;
   for (size_t i = 0; i < model->outlet.size(); ++i) {
-    const io::BoundaryCondition& b = bc_of(problem.conditions().outlets[model->outlet[i]].face);
-    if (b.type != io::BcType::Windkessel || b.initial_distal_pressure)
-      continue; // a given initial distal pressure wins
-    states[model->outlet[i]].distal_pressure = periodic.distal_pressure(i, 0.0);
-    told += fmt::format(" {} {:.1f} mmHg", b.face, periodic.distal_pressure(i, 0.0) / units::mmHg);
+    const bc::TractionOutlet& o = problem.conditions().outlets[model->outlet[i]];
+    const double pd = periodic.distal_pressure(i, 0.0);
+    if (std::optional<bc::OutletState> s = bc::start_state(o.law, pd)) { // else: the case's
+      states[model->outlet[i]].law = *s;
+      told += fmt::format(" {} {:.1f} mmHg", o.face, pd / units::mmHg);
+    }
   }
   problem.set_outlet_states(states);
   // The pressure field starts at the 0D inlet pressure: a good first Newton guess, and with a
@@ -247,13 +230,6 @@ void Simulation::load_wall(double p0) {
                                      volume / units::mL));
 }
 
-const io::BoundaryCondition& Simulation::bc_of(const std::string& face) const {
-  for (const io::BoundaryCondition& b : case_.boundary_conditions)
-    if (b.face == face)
-      return b;
-  throw std::logic_error("no boundary condition on face " + face);
-}
-
 std::vector<std::string> Simulation::outlet_faces() const {
   std::vector<std::string> out;
   for (const bc::TractionOutlet& o : fluid().conditions().outlets)
@@ -268,8 +244,8 @@ StepSample Simulation::sample() const {
   for (const physics::FaceMeasure& m : fluid().measure_faces(solution())) {
     FaceSample f{m, std::nullopt};
     for (size_t i = 0; i < outlets.size(); ++i)
-      if (outlets[i].face == m.face && outlets[i].rcr)
-        f.distal_pressure = states[i].distal_pressure;
+      if (outlets[i].face == m.face)
+        f.distal_pressure = bc::distal_pressure(outlets[i].law, states[i].law);
     s.faces.push_back(f);
   }
   return s;
@@ -281,20 +257,23 @@ void Simulation::set_outlets(const std::vector<bc::WindkesselBranch>& outlets) {
   for (const bc::WindkesselBranch& w : outlets) {
     const auto it = std::find_if(specs.begin(), specs.end(),
                                  [&](const bc::TractionOutlet& o) { return o.face == w.name; });
-    if (it == specs.end() || !it->rcr)
+    const bc::RcrOutlet* old = it == specs.end() ? nullptr : std::get_if<bc::RcrOutlet>(&it->law);
+    if (!old)
       throw std::logic_error("set_outlets: '" + w.name + "' is no RCR outlet of the case");
-    bc::WindkesselRCR rcr = w.rcr;
-    rcr.reference_pressure = it->rcr->reference_pressure;
-    problem.set_outlet_rcr(static_cast<size_t>(it - specs.begin()), rcr);
-    for (io::BoundaryCondition& b : case_.boundary_conditions)
+    bc::RcrOutlet tuned = *old;
+    tuned.rcr = w.rcr;
+    tuned.rcr.reference_pressure = old->rcr.reference_pressure;
+    problem.set_outlet_law(static_cast<size_t>(it - specs.begin()), tuned);
+    for (bc::BoundaryCondition& b : case_.boundary_conditions)
       if (b.face == w.name)
-        b.rcr = rcr;
+        b.outlet()->law = tuned;
   }
 }
 
 Simulation::~Simulation() = default;
 
 physics::StepReport Simulation::advance() {
+  const fem::SolverOptions::Scope options(*options_);
   physics::StepReport r =
       fsi_ ? fsi_solver_->step(time(), case_.time.step) : solver_->step(time(), case_.time.step);
   ++step_;
@@ -367,6 +346,7 @@ void Simulation::write_frame() {
 }
 
 RunSummary Simulation::run(const RunOptions& options) {
+  const fem::SolverOptions::Scope solver_options(*options_);
   const bool root = fem::mpi_rank(dmesh_->comm()) == 0;
   output_ = std::make_unique<Output>();
   output_->dir = case_.output.directory;
@@ -557,7 +537,7 @@ int Simulation::take_state_of_mesh(io::Checkpoint& c, const RunOptions& options)
            : std::vector<std::string>{"", "", "", ""};
   c.solution = transfer.apply(c.solution, block(), unknowns);
   c.derivative = transfer.apply(c.derivative, block(), unknowns);
-  const size_t outlets = 2 * fluid().outlet_states().size();
+  const size_t outlets = outlet_record_size();
   if (fsi_ && c.extra.size() > outlets) { // the displacement: continuous
     const std::vector<double> d = transfer.apply(
         std::vector<double>(c.extra.begin() + static_cast<std::ptrdiff_t>(outlets), c.extra.end()),
@@ -573,10 +553,21 @@ int Simulation::take_state_of_mesh(io::Checkpoint& c, const RunOptions& options)
   return first;
 }
 
+size_t Simulation::outlet_record_size() const {
+  size_t n = 0;
+  for (const bc::TractionOutlet& o : fluid().conditions().outlets)
+    n += bc::record_size(o.law) + 1;
+  return n;
+}
+
 std::vector<double> Simulation::outlet_checkpoint() const {
+  // Per outlet: its law's record (bc/outlet.hpp), then Q at t_n.
   std::vector<double> extra;
-  for (const physics::FluidProblem::OutletState& s : fluid().outlet_states())
-    extra.insert(extra.end(), {s.distal_pressure, s.flux});
+  const std::vector<physics::FluidProblem::OutletState> states = fluid().outlet_states();
+  for (size_t i = 0; i < states.size(); ++i) {
+    bc::append_record(fluid().conditions().outlets[i].law, states[i].law, extra);
+    extra.push_back(states[i].flux);
+  }
   if (fsi_) { // then the displacement of every node, as the solution
     const std::vector<double> D = gather(fsi_->displacement());
     extra.insert(extra.end(), D.begin(), D.end());
@@ -588,16 +579,24 @@ void Simulation::set_outlet_checkpoint(const std::vector<double>& extra,
                                        const std::filesystem::path& file) {
   std::vector<physics::FluidProblem::OutletState> states = fluid().outlet_states();
   const size_t displacement = fsi_ ? static_cast<size_t>(mesh_.num_nodes()) * block() : 0;
-  if (extra.size() != 2 * states.size() + displacement)
-    input_error("checkpoint '{}' holds {} values beside the solution; the case needs {} ({} "
-                "outlets{})",
-                file.string(), extra.size(), 2 * states.size() + displacement, states.size(),
+  const size_t outlets = outlet_record_size();
+  if (extra.size() != outlets + displacement)
+    input_error("checkpoint '{}' holds {} values beside the solution; the case needs {} (the "
+                "states of {} outlets{})",
+                file.string(), extra.size(), outlets + displacement, states.size(),
                 fsi_ ? " and the displacement" : "");
-  for (size_t i = 0; i < states.size(); ++i)
-    states[i] = {extra[2 * i], extra[2 * i + 1]};
+  const std::span<const double> all(extra);
+  size_t at = 0;
+  for (size_t i = 0; i < states.size(); ++i) {
+    const bc::OutletLaw& law = fluid().conditions().outlets[i].law;
+    const size_t n = bc::record_size(law);
+    states[i] = {bc::restore(law, all.subspan(at, n)), all[at + n]};
+    at += n + 1;
+  }
   fluid().set_outlet_states(states);
   if (fsi_)
-    fsi_->set_displacement(std::vector<double>(extra.begin() + 2 * states.size(), extra.end()));
+    fsi_->set_displacement(
+        std::vector<double>(extra.begin() + static_cast<std::ptrdiff_t>(at), extra.end()));
 }
 
 } // namespace tearflow::run

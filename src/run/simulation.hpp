@@ -8,6 +8,7 @@
 
 #include "bc/windkessel_network.hpp"
 #include "fem/distributed_mesh.hpp"
+#include "fem/solver_options.hpp"
 #include "io/case.hpp"
 #include "io/checkpoint.hpp"
 #include "physics/fluid_solver.hpp"
@@ -85,13 +86,18 @@ private:
   /// The checkpoint `c` of options.start_case's run, on its mesh, checked and interpolated
   /// to this mesh in place; returns the first step.
   int take_state_of_mesh(io::Checkpoint& c, const RunOptions& options) const;
+  /// The checkpoint's extra data: per outlet its law's record and Q at t_n, then (FSI) the
+  /// displacement of every node.
   std::vector<double> outlet_checkpoint() const;
   void set_outlet_checkpoint(const std::vector<double>& extra, const std::filesystem::path& file);
-  const io::BoundaryCondition& bc_of(const std::string& face) const;
+  size_t outlet_record_size() const; ///< the outlets' part of outlet_checkpoint()
   std::vector<std::string> outlet_faces() const;
 
   io::Case case_;
   mesh::Mesh mesh_;
+  /// The run's PETSc options (the case's, the command line's, the solvers' defaults); made
+  /// before and destroyed after the solvers that read them.
+  std::unique_ptr<fem::SolverOptions> options_;
   std::unique_ptr<fem::DistributedMesh> dmesh_;
   std::unique_ptr<physics::FluidProblem> problem_;
   std::unique_ptr<physics::FluidSolver> solver_;

@@ -39,7 +39,9 @@ SolidSimulation::SolidSimulation(io::Case c, MPI_Comm comm)
     : SolidSimulation(c, load_solid_mesh(c), comm) {}
 
 SolidSimulation::SolidSimulation(io::Case c, mesh::Mesh m, MPI_Comm comm)
-    : case_(std::move(c)), mesh_(std::move(m)) {
+    : case_(std::move(c)), mesh_(std::move(m)),
+      options_(std::make_unique<fem::SolverOptions>(case_.petsc_options)) {
+  const fem::SolverOptions::Scope options(*options_);
   if (!case_.solid)
     input_error("{}: a solid simulation needs a `solid:` section", source_of(case_));
   const io::SolidSpec& s = *case_.solid;
@@ -58,6 +60,7 @@ SolidSimulation::SolidSimulation(io::Case c, mesh::Mesh m, MPI_Comm comm)
 SolidSimulation::~SolidSimulation() = default;
 
 physics::StepReport SolidSimulation::advance() {
+  const fem::SolverOptions::Scope options(*options_);
   physics::StepReport r = solver_->step(time(), case_.time.step);
   ++step_;
   return r;
@@ -122,6 +125,7 @@ void SolidSimulation::append_face_rows(std::vector<std::string>& rows) const {
 }
 
 RunSummary SolidSimulation::run(const RunOptions& options) {
+  const fem::SolverOptions::Scope solver_options(*options_);
   const bool root = fem::mpi_rank(dmesh_->comm()) == 0;
   output_ = std::make_unique<Output>();
   output_->dir = case_.output.directory;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fem/distributed_mesh.hpp"
+#include "fem/solver_options.hpp"
 #include "io/case.hpp"
 #include "physics/solid_solver.hpp"
 #include "run/simulation.hpp"
@@ -46,6 +47,7 @@ private:
 
   io::Case case_;
   mesh::Mesh mesh_;
+  std::unique_ptr<fem::SolverOptions> options_; ///< the run's PETSc options (simulation.hpp)
   std::unique_ptr<fem::DistributedMesh> dmesh_;
   std::unique_ptr<physics::SolidProblem> problem_;
   std::unique_ptr<physics::SolidSolver> solver_;

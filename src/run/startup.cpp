@@ -32,20 +32,17 @@ std::optional<OutletModel> outlet_model(const bc::FluidConditions& conditions) {
     return std::nullopt;
   std::vector<bc::WindkesselBranch> branches;
   std::vector<size_t> index;
-  bool any_rcr = false;
+  bool any_capacitor = false;
   for (size_t i = 0; i < conditions.outlets.size(); ++i) {
     const bc::TractionOutlet& o = conditions.outlets[i];
-    if (o.rcr) {
-      any_rcr = true;
-      branches.push_back({o.face, *o.rcr});
-    } else if (o.resistance > 0.0) {
-      branches.push_back({o.face, {o.resistance, 0.0, 0.0, o.pressure(0.0)}});
-    } else {
-      return std::nullopt; // a pressure outlet sets the pressure: nothing to start
-    }
+    const std::optional<bc::WindkesselRCR> branch = bc::zero_d_branch(o.law);
+    if (!branch)
+      return std::nullopt; // an outlet that sets the pressure: nothing to start
+    branches.push_back({o.face, *branch});
+    any_capacitor = any_capacitor || branches.back().has_capacitor();
     index.push_back(i);
   }
-  if (!any_rcr)
+  if (!any_capacitor)
     return std::nullopt;
   return OutletModel{bc::WindkesselNetwork(std::move(branches)), total_inflow(conditions), index};
 }

@@ -1,6 +1,6 @@
 #pragma once
 // A short start-up: instead of from rest with the case's initial distal pressures, a run
-// starts with every RCR outlet's distal pressure (and the pressure field) taken from the
+// starts with every outlet capacitor's pressure (and the pressure field) taken from the
 // periodic state of the 0D model of its outlets (bc/windkessel_network.hpp) at t = 0. The
 // RCRs' memory (time constant R_d C, about a cardiac cycle in the aorta) would otherwise
 // take several cycles to forget the initial guess; the 3D domain itself settles within
@@ -15,7 +15,7 @@
 namespace tearflow::run {
 
 /// The outlets of `conditions` as a 0D network driven by the sum of the inflows, or nothing
-/// when there is no RCR outlet, no inflow, or a pressure outlet fixes the pressure.
+/// when no outlet has a capacitor, there is no inflow, or an outlet sets the pressure.
 struct OutletModel {
   bc::WindkesselNetwork network;
   bc::Waveform inflow;

@@ -184,8 +184,9 @@ CorrectedRun run_corrected(const io::Case& c, const std::filesystem::path& case_
       const auto& outlets = sim.fluid().conditions().outlets;
       for (size_t k = 0; k < next.outlets.size(); ++k)
         for (size_t i = 0; i < outlets.size(); ++i)
-          if (outlets[i].face == next.outlets[k].name && before[k] > 0.0)
-            states[i].distal_pressure *= after[k] / before[k];
+          if (auto* s = std::get_if<bc::RcrOutlet::State>(&states[i].law);
+              s && outlets[i].face == next.outlets[k].name && before[k] > 0.0)
+            s->distal_pressure *= after[k] / before[k];
       sim.set_outlets(next.outlets);
       sim.fluid().set_outlet_states(states);
     }

@@ -16,15 +16,22 @@ namespace tearflow::tuning {
 
 namespace {
 
-const io::BoundaryCondition& single_inflow(const io::Case& c) {
-  const io::BoundaryCondition* inflow = nullptr;
-  for (const io::BoundaryCondition& b : c.boundary_conditions)
-    if (b.type == io::BcType::Inflow) {
+/// The outlets tuning sets: RCR and resistance ones (a resistance becomes an RCR).
+bool tuned_law(const bc::BoundaryCondition& b) {
+  const bc::Outlet* o = b.outlet();
+  return o && (std::holds_alternative<bc::RcrOutlet>(o->law) ||
+               std::holds_alternative<bc::ResistanceOutlet>(o->law));
+}
+
+const bc::BoundaryCondition& single_inflow(const io::Case& c) {
+  const bc::BoundaryCondition* inflow = nullptr;
+  for (const bc::BoundaryCondition& b : c.boundary_conditions)
+    if (b.inflow()) {
       if (inflow)
         input_error("tuning needs one inflow; the case has '{}' and '{}'", inflow->face, b.face);
       inflow = &b;
     }
-  if (!inflow || inflow->flow.is_constant())
+  if (!inflow || inflow->inflow()->flow.is_constant())
     input_error("tuning needs a periodic inflow waveform (one cardiac cycle)");
   return *inflow;
 }
@@ -32,16 +39,14 @@ const io::BoundaryCondition& single_inflow(const io::Case& c) {
 void check_outlets(const io::Case& c, const TuningTargets& t) {
   for (const OutletFraction& o : t.splits) {
     const auto it = std::find_if(c.boundary_conditions.begin(), c.boundary_conditions.end(),
-                                 [&](const io::BoundaryCondition& b) { return b.face == o.face; });
-    if (it == c.boundary_conditions.end() ||
-        (it->type != io::BcType::Windkessel && it->type != io::BcType::Resistance))
+                                 [&](const bc::BoundaryCondition& b) { return b.face == o.face; });
+    if (it == c.boundary_conditions.end() || !tuned_law(*it))
       input_error("the targets' split for '{}' names no rcr or resistance outlet of the case",
                   o.face);
   }
-  for (const io::BoundaryCondition& b : c.boundary_conditions)
-    if ((b.type == io::BcType::Windkessel || b.type == io::BcType::Resistance) &&
-        std::none_of(t.splits.begin(), t.splits.end(),
-                     [&](const OutletFraction& o) { return o.face == b.face; }))
+  for (const bc::BoundaryCondition& b : c.boundary_conditions)
+    if (tuned_law(b) && std::none_of(t.splits.begin(), t.splits.end(),
+                                     [&](const OutletFraction& o) { return o.face == b.face; }))
       input_error("outlet '{}' of the case has no target split", b.face);
 }
 
@@ -118,13 +123,12 @@ void print_step(const TuningStep& s) {
 }
 
 io::Case with_outlets(io::Case c, const std::vector<bc::WindkesselBranch>& rcr) {
-  for (io::BoundaryCondition& b : c.boundary_conditions)
+  for (bc::BoundaryCondition& b : c.boundary_conditions)
     for (const bc::WindkesselBranch& w : rcr)
-      if (b.face == w.name) {
-        b.type = io::BcType::Windkessel;
-        b.rcr = w.rcr;
-        b.rcr.reference_pressure = b.distal_pressure;
-        b.initial_distal_pressure.reset();
+      if (b.face == w.name && tuned_law(b)) { // a resistance outlet becomes an RCR
+        bc::RcrOutlet tuned{w.rcr, std::nullopt};
+        tuned.rcr.reference_pressure = bc::zero_d_branch(b.outlet()->law)->reference_pressure;
+        b.outlet()->law = tuned;
       }
   return c;
 }
@@ -135,7 +139,8 @@ io::Case with_outlets(io::Case c, const TuningTargets& t, const WindkesselTotals
 }
 
 OutletCorrection::OutletCorrection(const io::Case& c, TuningTargets targets)
-    : targets_(std::move(targets)), inflow_(single_inflow(c).flow), inlet_(single_inflow(c).face) {
+    : targets_(std::move(targets)), inflow_(single_inflow(c).inflow()->flow),
+      inlet_(single_inflow(c).face) {
   check_outlets(c, targets_);
   for (const OutletFraction& o : targets_.splits)
     f_.push_back(o.fraction);

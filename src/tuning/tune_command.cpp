@@ -4,7 +4,6 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <petscsys.h>
 #include <yaml-cpp/yaml.h>
 
 #include "core/error.hpp"
@@ -35,12 +34,11 @@ TuneCommand::TuneCommand(CLI::App& app) {
 }
 
 int TuneCommand::run(const std::string& cli_petsc) const {
-  const io::Case c = io::load_case(case_file_);
+  io::Case c = io::load_case(case_file_);
   TuningTargets t = load_targets(targets_file_);
   if (iterations_ >= 0)
     t.max_iterations = iterations_;
-  TF_PETSC(PetscOptionsInsertString(nullptr, c.petsc_options.c_str()));
-  TF_PETSC(PetscOptionsInsertString(nullptr, cli_petsc.c_str()));
+  c.petsc_options += cli_petsc; // each 3D run's options: the case's, then these (they win)
   const TuningResult r = tune_outlets(c, t, !quiet_);
   if (fem::mpi_rank() != 0)
     return r.met ? 0 : 1;

@@ -17,17 +17,20 @@ std::string tuned_yaml(const std::filesystem::path& case_file, const io::Case& t
                           std::filesystem::absolute(out).parent_path());
   for (YAML::Node item : root["boundary_conditions"]) {
     const std::string face = item["face"].as<std::string>();
-    for (const io::BoundaryCondition& b : tuned.boundary_conditions)
-      if (b.face == face && b.type == io::BcType::Windkessel) {
+    for (const bc::BoundaryCondition& b : tuned.boundary_conditions) {
+      const bc::RcrOutlet* rcr =
+          b.outlet() ? std::get_if<bc::RcrOutlet>(&b.outlet()->law) : nullptr;
+      if (b.face == face && rcr) {
         for (const char* key : {"resistance", "initial_distal_pressure"})
           item.remove(key);
         item["type"] = "rcr";
         // The shortest text that reads back as the same number: the tuned case holds the
         // run's outlets exactly, so the run's checkpoint starts it (run --start-from).
-        item["proximal_resistance"] = fmt::format("{}", b.rcr.proximal_resistance);
-        item["capacitance"] = fmt::format("{}", b.rcr.capacitance);
-        item["distal_resistance"] = fmt::format("{}", b.rcr.distal_resistance);
+        item["proximal_resistance"] = fmt::format("{}", rcr->rcr.proximal_resistance);
+        item["capacitance"] = fmt::format("{}", rcr->rcr.capacitance);
+        item["distal_resistance"] = fmt::format("{}", rcr->rcr.distal_resistance);
       }
+    }
   }
   YAML::Emitter emitter;
   emitter << root;

@@ -6,8 +6,9 @@ namespace tearflow::verify {
 
 VerificationResult verify_poiseuille(const VerifyOptions& options);
 VerificationResult verify_womersley(const VerifyOptions& options);
-// Outlets (rcr.cpp, splits.cpp).
+// Outlets (rcr.cpp: rcr and rc, splits.cpp).
 VerificationResult verify_rcr(const VerifyOptions& options);
+VerificationResult verify_rc(const VerifyOptions& options);
 VerificationResult verify_splits(const VerifyOptions& options);
 // Outlet tuning (tuning.cpp).
 VerificationResult verify_tuning(const VerifyOptions& options);

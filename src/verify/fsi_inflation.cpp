@@ -52,11 +52,7 @@ VerificationResult verify_inflation(const VerifyOptions& options) {
   spec.wall =
       physics::SolidMaterial::from_young_poisson(physics::SolidModel::NeoHookean, E, nu, rho_s);
   for (const char* cap : {"inlet", "outlet"}) {
-    bc::TractionOutlet o;
-    o.face = cap;
-    o.pressure = smooth_ramp();
-    o.backflow_beta = 0.0;
-    spec.fluid_conditions.outlets.push_back(o);
+    spec.fluid_conditions.outlets.push_back({cap, bc::PressureOutlet{smooth_ramp()}, 0.0});
   }
   spec.wall_conditions.fixed = {{"wall_inlet", 0b100, {}, 0.0}, {"wall_outlet", 0b100, {}, 0.0}};
   // Newton to 1e-9 of the load's force scale: far below the 5 % checked.

@@ -349,12 +349,8 @@ PulseRun run_pulse(double element_size, double dt, double c0, double c_open,
   spec.fluid = {rho_f, mu};
   spec.wall =
       physics::SolidMaterial::from_young_poisson(physics::SolidModel::NeoHookean, E, nu, rho_s);
-  bc::TractionOutlet inlet, outlet;
-  inlet.face = "inlet";
-  inlet.pressure = inlet_pulse();
-  inlet.backflow_beta = 0.0;
-  outlet.face = "outlet";
-  spec.fluid_conditions.outlets = {inlet, outlet};
+  spec.fluid_conditions.outlets = {{"inlet", bc::PressureOutlet{inlet_pulse()}, 0.0},
+                                   {"outlet", bc::PressureOutlet{}}};
   spec.wall_conditions.fixed = {{"wall_inlet", 0b111, {}, 0.0}, {"wall_outlet", 0b111, {}, 0.0}};
   // Newton to 1e-9 of the load's force scale: arrival times move by far less than a step.
   spec.newton = {15, 1e-8, 1e-9 * P0 * a * a};

@@ -35,14 +35,9 @@ io::Case poiseuille_case(double element_size) {
   c.mesh.pipe = mesh::PipeSpec{R, L, element_size};
   c.fluid = {rho, mu};
   c.time = {10.0, 8, 0.0}; // dt = 10 s >> R^2/nu = 6.6 s
-  io::BoundaryCondition wall, inlet, outlet;
-  wall.face = "wall";
-  inlet.face = "inlet";
-  inlet.type = io::BcType::Inflow;
-  inlet.flow = bc::Waveform::constant(Q);
-  outlet.face = "outlet";
-  outlet.type = io::BcType::Pressure;
-  c.boundary_conditions = {wall, inlet, outlet};
+  c.boundary_conditions = {{"wall", bc::NoSlip{}},
+                           {"inlet", bc::Inflow{bc::Waveform::constant(Q)}},
+                           {"outlet", bc::Outlet{bc::PressureOutlet{}}}};
   c.newton = {12, 1e-8, 1e-16}; // forces here are ~1e-7 N: 1e-16 is round-off level
   return c;
 }
@@ -69,7 +64,7 @@ PoiseuilleRun run_poiseuille(double element_size, bool progress) {
       fmt::print(stderr, "poiseuille h = {:.2e} m: step {} Newton {} KSP {}\n", element_size, s + 1,
                  r.newton_iterations, r.linear_iterations);
   }
-  const std::vector<double> U = sim.gather(sim.solver().solution());
+  const std::vector<double> U = sim.gather(sim.solution());
   const mesh::Mesh& m = sim.mesh();
   double volume = 0.0;
   for (const Tet& t : m.tets)

@@ -1,9 +1,11 @@
-// A rigid pipe closed by one RCR Windkessel (../shared/reference/verification.md): once
-// periodic, the outlet pressure must follow the RCR ODE
+// A rigid pipe closed by one Windkessel outlet (../shared/reference/verification.md): once
+// periodic, the outlet pressure must follow the outlet law's ODE, for the RCR
 //   C dP_d/dt = Q - (P_d - P_ref)/R_d,  P = P_d + R_p Q,
+// and for the two-element RC (`verify rc`, bc/outlet_rc.hpp) the same with R_p = 0,
 // driven by the outlet flux Q, which in a rigid pipe is the inflow Q_in(t). The exact
-// periodic solution comes from the frequency domain (bc/windkessel_network.hpp). The 3D run
-// starts from the 0D periodic state, so its second cycle is compared sample by sample.
+// periodic solution comes from the frequency domain (bc/windkessel_network.hpp) through the
+// law's own 0D branch. The 3D run starts from the 0D periodic state, so its second cycle is
+// compared sample by sample.
 //
 // Time collocation: generalized-alpha balances momentum at t_{n+alpha_f}, where the outlet
 // traction is P(t_{n+alpha_f}); the pressure unknown of step n+1 is the multiplier of that
@@ -29,10 +31,12 @@ constexpr double T = 1.0, dt = 0.01;       // period and step [s]
 constexpr double Q_mean = 5e-6;            // [m^3/s]; peak Re ~ 500
 constexpr int kCycles = 2;
 const bc::WindkesselRCR kRcr{2e7, 1.5e-9, 2e8, 0.0}; // R_d C = 0.3 s
+/// The RC: the RCR's total resistance and capacitance, R C = 0.33 s.
+const bc::RcOutlet kRc{2.2e8, 1.5e-9, 0.0, {}};
 
-io::Case rcr_case(double element_size) {
+io::Case outlet_case(const std::string& name, double element_size, const bc::OutletLaw& law) {
   io::Case c;
-  c.name = "verify-rcr";
+  c.name = "verify-" + name;
   c.mesh.pipe = mesh::PipeSpec{R, L, element_size};
   c.fluid = {rho, mu};
   c.time.step = dt;
@@ -40,28 +44,22 @@ io::Case rcr_case(double element_size) {
   c.time.steps_per_cycle = static_cast<int>(std::round(T / dt));
   c.time.steps = kCycles * c.time.steps_per_cycle;
   c.time.spectral_radius = 0.5;
-  io::BoundaryCondition wall, inlet, outlet;
-  wall.face = "wall";
-  inlet.face = "inlet";
-  inlet.type = io::BcType::Inflow;
-  inlet.flow = pulsatile_inflow(Q_mean, T);
-  outlet.face = "outlet";
-  outlet.type = io::BcType::Windkessel;
-  outlet.rcr = kRcr;
-  c.boundary_conditions = {wall, inlet, outlet};
+  c.boundary_conditions = {{"wall", bc::NoSlip{}},
+                           {"inlet", bc::Inflow{pulsatile_inflow(Q_mean, T)}},
+                           {"outlet", bc::Outlet{law}}};
   c.newton = {10, 1e-6, 1e-14};
   return c;
 }
 
-} // namespace
-
-VerificationResult verify_rcr(const VerifyOptions& options) {
+VerificationResult verify_outlet(const VerifyOptions& options, const std::string& name,
+                                 const bc::OutletLaw& law) {
   const double h = R / 5.0 * options.coarsening;
-  run::Simulation sim(rcr_case(h));
+  run::Simulation sim(outlet_case(name, h, law));
   const double alpha_f =
       physics::GeneralizedAlpha::from_spectral_radius(sim.config().time.spectral_radius).alpha_f;
-  const bc::WindkesselNetwork network({{"outlet", kRcr}});
-  const bc::PeriodicState exact = network.periodic(sim.config().boundary_conditions[1].flow);
+  const bc::WindkesselNetwork network({{"outlet", *bc::zero_d_branch(law)}});
+  const bc::PeriodicState exact =
+      network.periodic(sim.config().boundary_conditions[1].inflow()->flow);
 
   // Outlet samples of the last cycle.
   const int n = sim.config().time.steps_per_cycle, total = sim.config().time.steps;
@@ -71,8 +69,8 @@ VerificationResult verify_rcr(const VerifyOptions& options) {
     const physics::StepReport r = sim.advance();
     newton += r.newton_iterations;
     if (options.progress)
-      fmt::print(stderr, "rcr: step {}/{} Newton {} KSP {}\n", s + 1, total, r.newton_iterations,
-                 r.linear_iterations);
+      fmt::print(stderr, "{}: step {}/{} Newton {} KSP {}\n", name, s + 1, total,
+                 r.newton_iterations, r.linear_iterations);
     if (sim.step() <= total - n)
       continue;
     for (const run::FaceSample& f : sim.sample().faces)
@@ -109,7 +107,7 @@ VerificationResult verify_rcr(const VerifyOptions& options) {
   }
 
   VerificationResult res;
-  res.name = "rcr";
+  res.name = name;
   // Every step of the last cycle must be compared: an empty or short sample list would make
   // the maxima above vacuous.
   res.metrics.push_back({"outlet_sample_count_error",
@@ -121,8 +119,9 @@ VerificationResult verify_rcr(const VerifyOptions& options) {
   // pressure (the bound) leaves a wide margin for both.
   res.metrics.push_back(
       {"outlet_pressure_error_over_pulse", err_af / pulse, 0.01,
-       "max over the last cycle's steps of |mean outlet p - exact RCR P(t_n + alpha_f dt)| / "
-       "pulse pressure; 1 %"});
+       fmt::format("max over the last cycle's steps of |mean outlet p - exact {} P(t_n + "
+                   "alpha_f dt)| / pulse pressure; 1 %",
+                   name)});
   res.metrics.push_back({"distal_pressure_error_over_pulse", err_distal / pulse, 0.01,
                          "max |P_d - exact P_d| / pulse pressure over the last cycle; 1 %"});
   res.details = {{"radius_m", R},
@@ -133,15 +132,22 @@ VerificationResult verify_rcr(const VerifyOptions& options) {
                  {"alpha_f", alpha_f},
                  {"cycles", kCycles},
                  {"newton_iterations_per_step", static_cast<double>(newton) / total},
-                 {"rcr",
-                  {{"R_p", kRcr.proximal_resistance},
-                   {"C", kRcr.capacitance},
-                   {"R_d", kRcr.distal_resistance}}},
+                 {"outlet_law", bc::describe(law)},
                  {"pulse_pressure_Pa", pulse},
                  {"error_if_compared_at_t_n_plus_1_over_pulse", err_end / pulse},
                  {"outlet_flow_max_error_m3_per_s", err_flow},
                  {"samples", samples}};
   return res;
+}
+
+} // namespace
+
+VerificationResult verify_rcr(const VerifyOptions& options) {
+  return verify_outlet(options, "rcr", bc::RcrOutlet{kRcr, {}});
+}
+
+VerificationResult verify_rc(const VerifyOptions& options) {
+  return verify_outlet(options, "rc", kRc);
 }
 
 } // namespace tearflow::verify

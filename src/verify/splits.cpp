@@ -43,19 +43,11 @@ io::Case splits_case(double element_size) {
   c.time.period = T;
   c.time.steps_per_cycle = static_cast<int>(std::round(T / dt));
   c.time.steps = c.time.steps_per_cycle;
-  io::BoundaryCondition wall, inlet;
-  wall.face = "wall";
-  inlet.face = "inlet";
-  inlet.type = io::BcType::Inflow;
-  inlet.flow = pulsatile_inflow(Q_mean, T);
-  c.boundary_conditions = {wall, inlet};
-  for (size_t i = 0; i < kOutlets.size(); ++i) {
-    io::BoundaryCondition o;
-    o.face = kOutlets[i];
-    o.type = io::BcType::Windkessel;
-    o.rcr = outlet_rcr(kSplit[i]);
-    c.boundary_conditions.push_back(o);
-  }
+  c.boundary_conditions = {{"wall", bc::NoSlip{}},
+                           {"inlet", bc::Inflow{pulsatile_inflow(Q_mean, T)}}};
+  for (size_t i = 0; i < kOutlets.size(); ++i)
+    c.boundary_conditions.push_back(
+        {kOutlets[i], bc::Outlet{bc::RcrOutlet{outlet_rcr(kSplit[i]), {}}}});
   c.newton = {10, 1e-6, 1e-14};
   return c;
 }
@@ -83,7 +75,7 @@ VerificationResult verify_splits(const VerifyOptions& options) {
   for (size_t i = 0; i < kOutlets.size(); ++i)
     branches.push_back({kOutlets[i], outlet_rcr(kSplit[i])});
   const bc::PeriodicState zero_d =
-      bc::WindkesselNetwork(branches).periodic(config.boundary_conditions[1].flow);
+      bc::WindkesselNetwork(branches).periodic(config.boundary_conditions[1].inflow()->flow);
   double total = 0.0;
   for (size_t i = 0; i < kOutlets.size(); ++i)
     total += zero_d.mean_branch_flow(i);

@@ -35,18 +35,10 @@ io::Case junction_case(double element_size) {
   c.time.period = T;
   c.time.steps_per_cycle = static_cast<int>(std::round(T / dt));
   c.time.steps = 2 * c.time.steps_per_cycle;
-  io::BoundaryCondition wall, inlet;
-  wall.face = "wall";
-  inlet.face = "inlet";
-  inlet.type = io::BcType::Inflow;
-  inlet.flow = pulsatile_inflow(Q_mean, T);
-  c.boundary_conditions = {wall, inlet};
-  for (const tuning::OutletFraction& o : kTruthSplit) {
-    io::BoundaryCondition b;
-    b.face = o.face;
-    b.type = io::BcType::Windkessel;
-    c.boundary_conditions.push_back(b);
-  }
+  c.boundary_conditions = {{"wall", bc::NoSlip{}},
+                           {"inlet", bc::Inflow{pulsatile_inflow(Q_mean, T)}}};
+  for (const tuning::OutletFraction& o : kTruthSplit) // RCRs the tuning sets
+    c.boundary_conditions.push_back({o.face, bc::Outlet{bc::RcrOutlet{}}});
   c.newton = {10, 1e-6, 1e-14};
   return c;
 }

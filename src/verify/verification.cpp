@@ -38,6 +38,10 @@ const std::map<std::string, VerificationCase>& verification_cases() {
        {"rigid pipe closed by an RCR Windkessel: periodic outlet pressure against the RCR "
         "ODE's exact periodic solution",
         verify_rcr}},
+      {"rc",
+       {"rigid pipe closed by a two-element (RC) Windkessel: periodic outlet pressure against "
+        "the RC ODE's exact periodic solution",
+        verify_rc}},
       {"splits",
        {"three-outlet junction with RCR outlets: flow split of the 3D run against the 0D "
         "model of the outlets",

@@ -47,16 +47,9 @@ io::Case womersley_case(double element_size, const bc::Waveform& q) {
   c.mesh.pipe = mesh::PipeSpec{R, L, element_size};
   c.fluid = {rho, mu};
   c.time = {period / steps_per_cycle, steps_per_cycle, 0.5};
-  io::BoundaryCondition wall, inlet, outlet;
-  wall.face = "wall";
-  inlet.face = "inlet";
-  inlet.type = io::BcType::Inflow;
-  inlet.flow = q;
-  inlet.profile = io::InflowProfile::Womersley;
-  inlet.womersley_modes = 8;
-  outlet.face = "outlet";
-  outlet.type = io::BcType::Pressure;
-  c.boundary_conditions = {wall, inlet, outlet};
+  c.boundary_conditions = {{"wall", bc::NoSlip{}},
+                           {"inlet", bc::Inflow{q, bc::ProfileShape::Womersley, 8}},
+                           {"outlet", bc::Outlet{bc::PressureOutlet{}}}};
   c.newton = {10, 1e-8, 1e-20};
   return c;
 }
@@ -132,7 +125,7 @@ VerificationResult verify_womersley(const VerifyOptions& options) {
     if (s % sample_every != 0)
       continue;
     const double t = sim.time();
-    const std::vector<double> Uh = sim.gather(sim.solver().solution());
+    const std::vector<double> Uh = sim.gather(sim.solution());
     double err2 = 0.0;
     for (const SectionPoint& p : pts) {
       const double ue = exact.axial_velocity(p.r, t);

@@ -1,0 +1,88 @@
+// Solver options per run (fem/solver_options.hpp): a library caller's case options reach its
+// solvers as the command line's do; neither they nor a run's solver defaults reach PETSc's
+// global database or the next run in the process.
+#include <string>
+
+#include <gtest/gtest.h>
+#include <petscsys.h>
+
+#include "fem/petsc.hpp"
+#include "fem/solver_options.hpp"
+#include "run/simulation.hpp"
+
+namespace tearflow {
+namespace {
+
+/// A short rigid pipe, steady inflow, pressure outlet; one step is enough.
+io::Case pipe_case(const std::string& petsc_options) {
+  io::Case c;
+  c.name = "solver-options";
+  c.mesh.pipe = mesh::PipeSpec{0.005, 0.02, 0.002};
+  c.time.step = 0.01;
+  c.time.steps = 1;
+  c.boundary_conditions = {{"wall", bc::NoSlip{}},
+                           {"inlet", bc::Inflow{bc::Waveform::constant(2e-6)}},
+                           {"outlet", bc::Outlet{bc::PressureOutlet{}}}};
+  c.petsc_options = petsc_options;
+  return c;
+}
+
+bool globally_set(const char* name) {
+  PetscBool set = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, nullptr, name, &set);
+  return set;
+}
+
+TEST(SolverOptions, ACasesOptionsReachItsRunAndStayThere) {
+  // A direct solve: one Krylov iteration per Newton iteration.
+  run::Simulation direct(pipe_case("-fluid_ksp_type preonly -fluid_pc_type lu"));
+  const physics::StepReport a = direct.advance();
+  ASSERT_GT(a.newton_iterations, 0);
+  EXPECT_EQ(a.linear_iterations, a.newton_iterations);
+  // Neither the case's options nor the fluid solver's defaults went global.
+  EXPECT_FALSE(globally_set("-fluid_ksp_type"));
+  EXPECT_FALSE(globally_set("-fluid_pc_type"));
+  EXPECT_FALSE(globally_set("-fluid_pc_fieldsplit_type"));
+  // The next run, made while the first lives, solves with the defaults (GMRES, field split).
+  run::Simulation iterative(pipe_case(""));
+  const physics::StepReport b = iterative.advance();
+  EXPECT_GT(b.linear_iterations, b.newton_iterations);
+}
+
+TEST(SolverOptions, ARunStartsFromTheOptionsInForceAndItsOwnWin) {
+  PetscOptionsSetValue(nullptr, "-test_solver_options_global", "1");
+  PetscOptionsSetValue(nullptr, "-test_solver_options_both", "global");
+  {
+    const fem::SolverOptions outer("-test_solver_options_both case -test_solver_options_flag");
+    std::string value;
+    EXPECT_TRUE(outer.get("-test_solver_options_global", &value));
+    EXPECT_EQ(value, "1");
+    EXPECT_TRUE(outer.get("-test_solver_options_both", &value));
+    EXPECT_EQ(value, "case"); // the case's (and the command line's after it) win
+    EXPECT_TRUE(outer.get("-test_solver_options_flag", &value));
+    EXPECT_EQ(value, "");
+    {
+      const fem::SolverOptions::Scope scope(outer);
+      EXPECT_TRUE(globally_set("-test_solver_options_flag")); // PETSc's default now
+      fem::set_default_options({{"-test_solver_options_default", "x"}});
+      const fem::SolverOptions::Scope again(outer); // nested: nothing changes
+      const fem::SolverOptions inner(""); // a run made inside another starts from its options
+      EXPECT_TRUE(inner.get("-test_solver_options_default"));
+      EXPECT_TRUE(inner.get("-test_solver_options_flag"));
+    }
+    EXPECT_FALSE(globally_set("-test_solver_options_flag"));
+    EXPECT_FALSE(globally_set("-test_solver_options_default")); // defaults stayed in the run's
+    EXPECT_TRUE(outer.get("-test_solver_options_default"));
+  }
+  PetscOptionsClearValue(nullptr, "-test_solver_options_global");
+  PetscOptionsClearValue(nullptr, "-test_solver_options_both");
+}
+
+} // namespace
+} // namespace tearflow
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  tearflow::fem::PetscSession petsc(&argc, &argv);
+  return RUN_ALL_TESTS();
+}
