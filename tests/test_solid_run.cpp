@@ -38,9 +38,9 @@ std::string read_text(const fs::path& f) {
   return s.str();
 }
 
-/// faces.csv as (step, face) -> mean displacement.
+/// wall_faces.csv as (step, face) -> mean displacement.
 std::map<std::pair<int, std::string>, std::array<double, 3>> read_faces(const fs::path& dir) {
-  std::ifstream in(dir / "faces.csv");
+  std::ifstream in(dir / "wall_faces.csv");
   std::string line;
   std::getline(in, line);
   EXPECT_EQ(line, "step,time_s,face,mean_ux_m,mean_uy_m,mean_uz_m,area_m2");

@@ -22,6 +22,8 @@ struct RunFiles {
   std::filesystem::path flow_pvd() const { return dir / "flow.pvd"; }
   std::filesystem::path checkpoint() const { return dir / "checkpoint.bin"; }
   std::filesystem::path faces_csv() const { return dir / "faces.csv"; }
+  /// A wall-alone run's per-face record (its columns are the wall's, not the flow's).
+  std::filesystem::path wall_faces_csv() const { return dir / "wall_faces.csv"; }
   std::filesystem::path cycles_json() const { return dir / "cycles.json"; }
   /// A run tuned at its cycle ends (`run --targets`): the tuning's record and restart state,
   /// and the case with the outlets it ended with.

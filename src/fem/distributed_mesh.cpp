@@ -252,4 +252,28 @@ const LocalFace& DistributedMesh::face(const std::string& name) const {
   input_error("mesh has no face named '{}'", name);
 }
 
+std::vector<double> gather_nodes(const DistributedMesh& mesh, Vec v, int block) {
+  OwnedScatter to_all;
+  OwnedVec all;
+  TF_PETSC(VecScatterCreateToAll(v, to_all.out(), all.out()));
+  TF_PETSC(VecScatterBegin(to_all, v, all, INSERT_VALUES, SCATTER_FORWARD));
+  TF_PETSC(VecScatterEnd(to_all, v, all, INSERT_VALUES, SCATTER_FORWARD));
+  const std::vector<Index>& o2g = mesh.original_to_global();
+  std::vector<double> out(o2g.size() * static_cast<size_t>(block));
+  ReadArray a(all);
+  for (size_t n = 0; n < o2g.size(); ++n)
+    for (int c = 0; c < block; ++c)
+      out[block * n + c] = a[block * o2g[n] + c];
+  return out;
+}
+
+void scatter_nodes(const DistributedMesh& mesh, const std::vector<double>& all, Vec v, int block) {
+  WriteArray a(v);
+  for (Index l = 0; l < mesh.num_owned(); ++l) {
+    const Index n = mesh.original_index(l);
+    for (int c = 0; c < block; ++c)
+      a[block * l + c] = all[block * n + c];
+  }
+}
+
 } // namespace tearflow::fem

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <petscsys.h>
+#include <petscvec.h>
 
 #include "core/types.hpp"
 #include "mesh/mesh.hpp"
@@ -59,6 +59,12 @@ private:
   std::vector<LocalFace> faces_;
   std::vector<PetscInt> d_nnz_, o_nnz_;
 };
+
+/// A node-block vector (`block` unknowns per node) whole on every rank, in the input mesh's
+/// node order (collective): what checkpoints and frames hold.
+std::vector<double> gather_nodes(const DistributedMesh& mesh, Vec v, int block);
+/// Sets this rank's owned entries of `v` from such a whole vector.
+void scatter_nodes(const DistributedMesh& mesh, const std::vector<double>& all, Vec v, int block);
 
 /// Node-to-node adjacency of a tet mesh in CSR form (each row sorted, self excluded).
 struct NodeGraph {

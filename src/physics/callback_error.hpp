@@ -4,6 +4,7 @@
 // and keeps its message, to be re-thrown once SNESSolve has returned.
 #include <exception>
 #include <string>
+#include <utility>
 
 #include <petscsys.h>
 
@@ -29,6 +30,15 @@ struct CallbackError {
       collective = false;
     }
     return PETSC_ERR_LIB;
+  }
+
+  /// guard, adding the body's wall time to `seconds` (a step's assembly time): the residual
+  /// and Jacobian callbacks of every Newton solve (fluid_solver.cpp, solid_solver.cpp).
+  template <typename F> PetscErrorCode timed_guard(double& seconds, F&& body) {
+    const double t0 = MPI_Wtime();
+    const PetscErrorCode err = guard(std::forward<F>(body));
+    seconds += MPI_Wtime() - t0;
+    return err;
   }
 };
 

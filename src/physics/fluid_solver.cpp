@@ -110,10 +110,8 @@ template <typename Problem> PetscErrorCode NewtonStepper<Problem>::shell_mult(Ma
 template <typename Problem>
 PetscErrorCode NewtonStepper<Problem>::form_residual(SNES, Vec U, Vec R, void* ctx) {
   auto* self = static_cast<NewtonStepper*>(ctx);
-  const double t0 = MPI_Wtime();
-  const PetscErrorCode err = self->callback_error_.guard([&] { self->problem_.residual(U, R); });
-  self->assembly_seconds_ += MPI_Wtime() - t0;
-  return err;
+  return self->callback_error_.timed_guard(self->assembly_seconds_,
+                                           [&] { self->problem_.residual(U, R); });
 }
 
 template <typename Problem> bool NewtonStepper<Problem>::preconditioner_due() {
@@ -145,8 +143,7 @@ template <typename Problem> bool NewtonStepper<Problem>::jacobian_reusable(SNES 
 template <typename Problem>
 PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES snes, Vec U, Mat A, Mat P, void* ctx) {
   auto* self = static_cast<NewtonStepper*>(ctx);
-  const double t0 = MPI_Wtime();
-  const PetscErrorCode err = self->callback_error_.guard([&] {
+  return self->callback_error_.timed_guard(self->assembly_seconds_, [&] {
     if (self->jacobian_reusable(snes)) { // P unchanged: the preconditioner stays too
       ++self->jacobians_reused_;
       TF_PETSC(SNESSetLagPreconditioner(snes, -1));
@@ -163,8 +160,6 @@ PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES snes, Vec U, Mat A, Ma
       TF_PETSC(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
     }
   });
-  self->assembly_seconds_ += MPI_Wtime() - t0;
-  return err;
 }
 
 template <typename Problem> bool NewtonStepper<Problem>::uses_exact_operator() const {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/file_layout.hpp"
 #include "physics/fluid_problem.hpp"
 #include "run/cycle_summary.hpp"
 
@@ -25,7 +26,23 @@ struct StepSample {
   std::vector<FaceSample> faces; ///< in the mesh's face order
 };
 
-class RunRecord {
+/// A run's per-step record of its faces, whichever model made it: the file it is written to,
+/// its text, and a restart's reload.
+class FaceRecord {
+public:
+  virtual ~FaceRecord() = default;
+  virtual std::filesystem::path file(const RunFiles& run) const = 0;
+  virtual std::string csv() const = 0;       ///< the header and every row
+  virtual std::string last_rows() const = 0; ///< the rows of the last step recorded
+  /// Reads the file of an earlier run up to and including `last_step` (a restart).
+  virtual void load_csv(const std::filesystem::path& file, int last_step) = 0;
+  /// Every complete cardiac cycle, and cycles.json's content (none without a period).
+  virtual const std::vector<run::CycleStats>& cycles() const = 0;
+  virtual std::optional<nlohmann::json> cycles_record() const { return std::nullopt; }
+};
+
+/// The flow's record (faces.csv, cycles.json).
+class RunRecord final : public FaceRecord {
 public:
   /// `outlets` name the traction-outlet faces (flow split, periodicity); steps_per_cycle 0
   /// when the run has no cardiac period.
@@ -44,13 +61,22 @@ public:
   /// Reads faces.csv of an earlier run up to and including `last_step` (a restart), and
   /// rebuilds the statistics of its complete cycles. InputError naming the file and line on
   /// a malformed row.
-  void load_csv(const std::filesystem::path& file, int last_step);
+  void load_csv(const std::filesystem::path& file, int last_step) override;
 
-  std::string csv() const;
+  std::filesystem::path file(const RunFiles& run) const override { return run.faces_csv(); }
+  std::string csv() const override;
+  std::string last_rows() const override {
+    return samples_.empty() ? std::string() : csv_rows(samples_.back());
+  }
+  std::optional<nlohmann::json> cycles_record() const override {
+    if (steps_per_cycle_ == 0)
+      return std::nullopt;
+    return cycles_json();
+  }
   /// The faces.csv rows of one step (no header).
   static std::string csv_rows(const StepSample& sample);
   const std::vector<StepSample>& samples() const { return samples_; }
-  const std::vector<run::CycleStats>& cycles() const { return cycles_; }
+  const std::vector<run::CycleStats>& cycles() const override { return cycles_; }
   nlohmann::json cycles_json() const { return run::cycles_to_json(period_, cycles_); }
   int steps_per_cycle() const { return steps_per_cycle_; }
 

@@ -1,16 +1,16 @@
 #pragma once
-// One solid-only simulation from a validated case with a `solid:` section: case -> mesh ->
-// partition -> SolidProblem -> SolidSolver -> outputs (VTU `solid_*.vtu` with displacement,
-// velocity, pressure, von Mises stress and J; faces.csv with each face's mean displacement;
-// checkpoints). The layout of Simulation, which does the same for the fluid.
+// One simulation of the wall alone (a solid-only case): case -> mesh -> partition -> the
+// wall's model (run/wall_model.hpp) -> the one time loop (run/time_loop.hpp) -> outputs.
+// Verification drivers use `advance` and the problem and solver; the fluid-structure start
+// uses it to load the wall (run/flow_model.hpp).
 #include <memory>
 #include <vector>
 
 #include "fem/distributed_mesh.hpp"
 #include "fem/solver_options.hpp"
 #include "io/case.hpp"
-#include "physics/solid_solver.hpp"
-#include "run/simulation.hpp"
+#include "run/time_loop.hpp"
+#include "run/wall_model.hpp"
 
 namespace tearflow::run {
 
@@ -29,31 +29,22 @@ public:
   RunSummary run(const RunOptions& options);
   physics::StepReport advance(); ///< one time step
 
-  int step() const { return step_; }
-  double time() const { return step_ * case_.time.step; }
+  int step() const { return model_->step(); }
+  double time() const { return model_->time(); }
   const io::Case& config() const { return case_; }
   const mesh::Mesh& mesh() const { return mesh_; }
-  physics::SolidProblem& problem() { return *problem_; }
-  physics::SolidSolver& solver() { return *solver_; }
+  physics::SolidProblem& problem() { return model_->problem(); }
+  physics::SolidSolver& solver() { return model_->solver(); }
 
   /// The whole block-4 vector on every rank, in the input mesh's node order.
-  std::vector<double> gather(Vec v) const;
+  std::vector<double> gather(Vec v) const { return model_->gather(v); }
 
 private:
-  void write_frame();
-  void append_face_rows(std::vector<std::string>& rows) const;
-  void set_state(int step, const std::vector<double>& U, const std::vector<double>& D,
-                 const std::vector<double>& A);
-
   io::Case case_;
   mesh::Mesh mesh_;
   std::unique_ptr<fem::SolverOptions> options_; ///< the run's PETSc options (simulation.hpp)
   std::unique_ptr<fem::DistributedMesh> dmesh_;
-  std::unique_ptr<physics::SolidProblem> problem_;
-  std::unique_ptr<physics::SolidSolver> solver_;
-  int step_ = 0;
-  struct Output;
-  std::unique_ptr<Output> output_;
+  std::unique_ptr<WallModel> model_;
 };
 
 } // namespace tearflow::run
