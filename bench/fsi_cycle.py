@@ -19,20 +19,14 @@ time term at T seconds instead of their step (fluid.stabilization_time_scale, do
 """
 import argparse, json, os, platform, re, subprocess, sys, tempfile, time
 
-from run_progress import BIN, run_case
+from run_progress import BIN, edit_case, run_case
 
 
 def with_keys(text, output, mesh=None, step=None, checkpoint_every=0, time_scale=None):
     """The case text with its mesh file, time step and output replaced, cycles unbounded."""
-    if time_scale:
-        text = re.sub(r"fluid: \{", "fluid: {stabilization_time_scale: %r, " % time_scale, text)
-    if mesh:
-        text = re.sub(r"mesh: \{file: [^,]*,", "mesh: {file: " + mesh + ",", text)
-    if step:
-        text = re.sub(r"time: \{step: [^,]*,", "time: {step: %r," % step, text)
-    text = re.sub(r"max_cycles: \d+", "max_cycles: 50", text)
-    return re.sub(r"output: \{[^}]*\}", "output: {every: 0, checkpoint_every: %d, directory: %s}"
-                  % (checkpoint_every, output), text)
+    return edit_case(text, mesh=mesh, step=step, time_scale=time_scale, max_cycles=50,
+                     output="every: 0, checkpoint_every: %d, directory: %s"
+                     % (checkpoint_every, output))
 
 
 def main():

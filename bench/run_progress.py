@@ -11,6 +11,28 @@ LINE = re.compile(r"step\s+(\d+)/\d+.*Newton (\d+) .*KSP\s+(\d+)\s+([\d.]+) s/st
                   r"\(assembly ([\d.]+) s\)")
 
 
+def edit_case(text, mesh=None, step=None, time_scale=None, drop_time_scale=False, rtol=None,
+              max_cycles=None, output=None):
+    """A case file's text (flow-style mappings, as examples/tbad-study's) with keys replaced:
+    the mesh file, time.step, fluid.stabilization_time_scale (set, or dropped), newton.rtol,
+    time.periodicity.max_cycles, and the output mapping's contents. The benchmarks' one edit."""
+    if drop_time_scale:
+        text = re.sub(r",? *stabilization_time_scale: [^,}]*", "", text)
+    if time_scale:
+        text = re.sub(r"fluid: \{", "fluid: {stabilization_time_scale: %r, " % time_scale, text)
+    if mesh:
+        text = re.sub(r"mesh: \{file: [^,]*,", "mesh: {file: " + mesh + ",", text)
+    if step:
+        text = re.sub(r"time: \{step: [^,]*,", "time: {step: %r," % step, text)
+    if max_cycles:
+        text = re.sub(r"max_cycles: \d+", "max_cycles: %d" % max_cycles, text)
+    if rtol:
+        text = re.sub(r"rtol: [^,}]*", "rtol: %r" % rtol, text)
+    if output is not None:
+        text = re.sub(r"output: \{[^}]*\}", "output: {" + output + "}", text)
+    return text
+
+
 def run_case(case, ranks, out_dir, steps=None, cwd=None, extra=()):
     cmd = [BIN, "run", case, "-o", out_dir] + (["--steps", str(steps)] if steps else []) + list(extra)
     if ranks > 1:

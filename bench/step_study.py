@@ -20,19 +20,15 @@ from the stabilization's dependence on the step (docs/study.md).
 """
 import argparse, json, os, re, subprocess, sys
 
-from run_progress import BIN
+from run_progress import BIN, edit_case
 
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 
 
 def case_text(text, step, rtol, every, directory, time_scale=None):
-    if time_scale:
-        text = re.sub(r"fluid: \{", "fluid: {stabilization_time_scale: %r, " % time_scale, text)
-    text = re.sub(r"time: \{step: [^,]*,", "time: {step: %r," % step, text)
-    text = re.sub(r"max_cycles: \d+", "max_cycles: 50", text)
-    text = re.sub(r"rtol: [^,}]*", "rtol: %r" % rtol, text)
-    return re.sub(r"output: \{[^}]*\}", "output: {every: %d, checkpoint_every: %d, directory: %s}"
-                  % (every, 10 * every, directory), text)
+    return edit_case(text, step=step, time_scale=time_scale, max_cycles=50, rtol=rtol,
+                     output="every: %d, checkpoint_every: %d, directory: %s"
+                     % (every, 10 * every, directory))
 
 
 def metrics(m):
