@@ -49,6 +49,7 @@ std::vector<char> signal_mask(const Flow4D& data, double noise_multiple) {
 nlohmann::json BackgroundReport::to_json() const {
   nlohmann::json j;
   j["static_voxels"] = static_voxels;
+  j["flow_region_voxels"] = flow_region_voxels;
   const char* names[] = {"x", "y", "z"};
   for (int c = 0; c < 3; ++c) {
     j["coefficients_m_per_s"][names[c]] = coefficients[c];
@@ -61,6 +62,31 @@ nlohmann::json BackgroundReport::to_json() const {
 nlohmann::json UnwrapReport::to_json() const {
   return {{"values_unwrapped", values_unwrapped}, {"voxels", voxels}};
 }
+
+namespace {
+
+/// The flowing blood and the rim around it: the voxels with signal whose SD x magnitude
+/// exceeds `threshold`, dilated by `margin` voxels along each grid axis (a cube).
+std::vector<char> flow_region(const ImageGrid& g, const std::vector<char>& with_signal,
+                              const std::vector<float>& sd_magnitude, double threshold,
+                              int margin) {
+  const std::size_t n = g.count();
+  std::vector<char> region(n, 0);
+  const int nx = g.size[0], ny = g.size[1], nz = g.size[2];
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!with_signal[v] || sd_magnitude[v] <= threshold)
+      continue;
+    const int i = static_cast<int>(v % nx), j = static_cast<int>((v / nx) % ny),
+              k = static_cast<int>(v / (static_cast<std::size_t>(nx) * ny));
+    for (int c = std::max(0, k - margin); c <= std::min(nz - 1, k + margin); ++c)
+      for (int b = std::max(0, j - margin); b <= std::min(ny - 1, j + margin); ++b)
+        for (int a = std::max(0, i - margin); a <= std::min(nx - 1, i + margin); ++a)
+          region[(static_cast<std::size_t>(c) * ny + b) * nx + a] = 1;
+  }
+  return region;
+}
+
+} // namespace
 
 BackgroundReport correct_background(Flow4D& data, const BackgroundOptions& options) {
   const ImageGrid& g = data.grid;
@@ -104,6 +130,15 @@ BackgroundReport correct_background(Flow4D& data, const BackgroundOptions& optio
   const std::size_t cut = static_cast<std::size_t>(options.static_percentile * (sds.size() - 1));
   std::nth_element(sds.begin(), sds.begin() + cut, sds.end());
   const float sd_limit = sds[cut];
+  // The noise level: a low quantile of SD x magnitude over the voxels with signal, static
+  // tissue's as long as a quarter of them are static (a small field of view around a large
+  // vessel has far more blood than the median assumed).
+  const std::size_t at = static_cast<std::size_t>(options.noise_quantile * (sds.size() - 1));
+  std::nth_element(sds.begin(), sds.begin() + at, sds.end());
+  const std::vector<char> flowing =
+      flow_region(g, with_signal, sd, options.flow_factor * sds[at], options.flow_margin);
+  report.flow_region_voxels =
+      static_cast<std::size_t>(std::count(flowing.begin(), flowing.end(), char(1)));
 
   // Least squares on the static voxels: normal equations (10 x 10 at most), solved by LDLT;
   // then robust refits: a voxel whose time mean lies more than 3 robust SDs (1.4826 x the
@@ -111,7 +146,7 @@ BackgroundReport correct_background(Flow4D& data, const BackgroundOptions& optio
   // blood that passed the SD test (it would bias the fit by its mean flow).
   std::vector<std::size_t> fit_voxels;
   for (std::size_t v = 0; v < n; ++v)
-    if (with_signal[v] && sd[v] <= sd_limit)
+    if (with_signal[v] && !flowing[v] && sd[v] <= sd_limit)
       fit_voxels.push_back(v);
   std::vector<double> mono;
   monomials({0, 0, 0}, options.order, mono);
