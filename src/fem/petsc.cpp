@@ -34,9 +34,15 @@ std::string petsc_error_text(PetscErrorCode ierr) {
   return line;
 }
 
+bool option_set(const std::string& name) {
+  PetscBool set = PETSC_FALSE;
+  TF_PETSC(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set));
+  return set;
+}
+
 void set_default_options(const OptionList& options) {
   for (const auto& [name, value] : options)
-    if (PetscBool set; PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set) == 0 && !set)
+    if (!option_set(name))
       TF_PETSC(PetscOptionsSetValue(nullptr, name.c_str(), value.c_str()));
 }
 

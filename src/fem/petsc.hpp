@@ -105,6 +105,9 @@ public:
 /// PETSc options as (name, value) pairs, e.g. {"-fluid_ksp_rtol", "1e-2"}.
 using OptionList = std::vector<std::pair<std::string, std::string>>;
 
+/// Whether PETSc's (default) options database has `name` ("-solid_pc_type").
+bool option_set(const std::string& name);
+
 /// Enters each option into PETSc's database unless it is already there: our defaults give
 /// way to whatever the case file or the command line set.
 void set_default_options(const OptionList& options);

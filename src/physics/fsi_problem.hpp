@@ -84,7 +84,7 @@ public:
   /// Sets the displacement of the wall's nodes from a full vector in the input mesh's node
   /// order (block 5 per node; other nodes' values are ignored), extends it into the fluid by
   /// the mesh motion, and puts the fluid on that configuration (collective): a wall in
-  /// equilibrium with a load at the start (run/simulation.cpp).
+  /// equilibrium with a load at the start (run/fsi_model.cpp).
   void set_wall_displacement(const std::vector<double>& all);
   /// Volume of the fluid on the configuration X + D (collective) [m^3].
   double fluid_volume() const;

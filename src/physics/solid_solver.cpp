@@ -34,11 +34,6 @@ fem::OptionList default_solid_options() {
           {"-solid_fieldsplit_1_pc_hypre_boomeramg_P_max", "4"},
           {"-solid_fieldsplit_1_pc_hypre_boomeramg_agg_nl", "1"}};
 }
-bool option_set(const char* name) {
-  PetscBool set = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, nullptr, name, &set);
-  return set;
-}
 } // namespace
 
 SolidSolver::SolidSolver(SolidProblem& problem, const physics::NewtonSpec& newton)
@@ -80,8 +75,8 @@ void SolidSolver::set_default_split() {
   TF_PETSC(KSPGetPC(ksp, &pc));
   PetscBool is_split = PETSC_FALSE;
   TF_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &is_split));
-  if (!is_split || option_set("-solid_pc_fieldsplit_0_fields") ||
-      option_set("-solid_pc_fieldsplit_block_size"))
+  if (!is_split || fem::option_set("-solid_pc_fieldsplit_0_fields") ||
+      fem::option_set("-solid_pc_fieldsplit_block_size"))
     return;
   const fem::DistributedMesh& mesh = problem_.dofs().mesh();
   const Index n = mesh.num_owned();

@@ -115,7 +115,9 @@ FlowModel::FlowModel(const io::Case& c, const mesh::Mesh& m, const fem::Distribu
     start_from_0d();
 }
 
-FlowModel::~FlowModel() = default;
+FlowModel::~FlowModel() {
+  stepper_.reset(); // before the problem it refers to (its preconditioner must outlive the KSP)
+}
 
 std::optional<double> FlowModel::start_from_0d() {
   physics::FluidProblem& problem = fluid();
@@ -238,7 +240,14 @@ int FlowModel::take_state(io::Checkpoint& c, const RunOptions& options) const {
   c.solution = transfer.apply(c.solution, block(), unknowns);
   c.derivative = transfer.apply(c.derivative, block(), unknowns);
   const size_t outlets = outlet_record_size();
-  if (wall_state_size() > 0 && c.extra.size() > outlets) { // the displacement: continuous
+  const size_t source_wall = wall_state_size() > 0 ? source_mesh.num_nodes() * block() : 0;
+  if (c.extra.size() != outlets + source_wall) // as set_extra's check, before interpolating
+    input_error("checkpoint '{}' holds {} values beside the solution; its case needs {} (the "
+                "states of {} outlets{})",
+                options.start_from.string(), c.extra.size(), outlets + source_wall,
+                fluid().conditions().outlets.size(),
+                source_wall > 0 ? " and the displacement" : "");
+  if (source_wall > 0) { // the displacement: continuous
     const std::vector<double> d = transfer.apply(
         std::vector<double>(c.extra.begin() + static_cast<std::ptrdiff_t>(outlets), c.extra.end()),
         block(), std::vector<std::string>(static_cast<size_t>(block()), ""));

@@ -38,7 +38,9 @@ FsiModel::FsiModel(const io::Case& c, const mesh::Mesh& m, const fem::Distribute
       load_wall(*p0);
 }
 
-FsiModel::~FsiModel() = default;
+FsiModel::~FsiModel() {
+  stepper_.reset(); // before fsi_, which it refers to
+}
 
 std::vector<std::string> FsiModel::unknown_regions() const {
   return {"", "", "", "fluid", "wall"}; // each pressure from its own region's tets

@@ -72,6 +72,13 @@ public:
   /// How the initial state was made, told when a run starts from it.
   virtual std::vector<std::string> start_notes() const { return {}; }
 
+  /// Sets solution and derivative from whole vectors in the input mesh's node order, and the
+  /// step.
+  void set_state(int step, const std::vector<double>& U, const std::vector<double>& Udot) {
+    fem::scatter_nodes(dmesh_, U, solution(), block());
+    fem::scatter_nodes(dmesh_, Udot, derivative(), block());
+    step_ = step;
+  }
   /// A whole node-block vector of this model (gather_nodes).
   std::vector<double> gather(Vec v) const { return fem::gather_nodes(dmesh_, v, block()); }
 

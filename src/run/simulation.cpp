@@ -29,9 +29,7 @@ physics::StepReport Simulation::advance() {
 
 void Simulation::set_state(int step, const std::vector<double>& U,
                            const std::vector<double>& Udot) {
-  fem::scatter_nodes(*dmesh_, U, model_->solution(), block());
-  fem::scatter_nodes(*dmesh_, Udot, model_->derivative(), block());
-  model_->set_step(step);
+  model_->set_state(step, U, Udot);
 }
 
 void Simulation::set_outlets(const std::vector<bc::WindkesselBranch>& outlets) {

@@ -2,7 +2,7 @@
 // One simulation of the wall alone (a solid-only case): case -> mesh -> partition -> the
 // wall's model (run/wall_model.hpp) -> the one time loop (run/time_loop.hpp) -> outputs.
 // Verification drivers use `advance` and the problem and solver; the fluid-structure start
-// uses it to load the wall (run/flow_model.hpp).
+// uses it to load the wall (run/fsi_model.cpp).
 #include <memory>
 #include <vector>
 

@@ -46,11 +46,8 @@ RunSummary run_loop(Model& model, const RunOptions& options) {
       io::write_file_atomically(files.cycles_json(), cycles->dump(2) + "\n");
   };
   auto set_state = [&](int step, const io::Checkpoint& from, const std::filesystem::path& file) {
-    const fem::DistributedMesh& dmesh = model.distributed_mesh();
-    fem::scatter_nodes(dmesh, from.solution, model.solution(), model.block());
-    fem::scatter_nodes(dmesh, from.derivative, model.derivative(), model.block());
+    model.set_state(step, from.solution, from.derivative);
     model.set_extra(from.extra, file);
-    model.set_step(step);
   };
 
   if (options.restart) {

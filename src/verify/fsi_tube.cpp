@@ -18,6 +18,7 @@ int region_index(const mesh::Mesh& m, const std::string& name) {
 } // namespace
 
 FsiTube::FsiTube(FsiTubeSpec spec) : spec_(std::move(spec)), mesh_(mesh::make_pipe(spec_.pipe)) {
+  const fem::SolverOptions::Scope options(options_);
   mesh::orient_faces_outward(mesh_);
   dmesh_ = std::make_unique<fem::DistributedMesh>(mesh_, PETSC_COMM_WORLD);
   problem_ = std::make_unique<physics::FsiProblem>(
@@ -39,7 +40,12 @@ FsiTube::FsiTube(FsiTubeSpec spec) : spec_(std::move(spec)), mesh_(mesh::make_pi
       on_interface_[v] = 1;
 }
 
+FsiTube::~FsiTube() {
+  solver_.reset(); // before the problem it refers to
+}
+
 physics::StepReport FsiTube::advance(double dt) {
+  const fem::SolverOptions::Scope options(options_);
   const physics::StepReport r = solver_->step(t_, dt);
   t_ += dt;
   return r;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "fem/distributed_mesh.hpp"
+#include "fem/solver_options.hpp"
 #include "io/case.hpp"
 #include "physics/fluid_solver.hpp"
 #include "physics/fsi_problem.hpp"
@@ -26,6 +27,7 @@ struct FsiTubeSpec {
 class FsiTube {
 public:
   explicit FsiTube(FsiTubeSpec spec);
+  ~FsiTube();
 
   physics::StepReport advance(double dt); ///< one step; time() moves on by dt
   double time() const { return t_; }
@@ -49,6 +51,8 @@ private:
 
   FsiTubeSpec spec_;
   mesh::Mesh mesh_;
+  /// Its PETSc options, as a run's (fem/solver_options.hpp): its solver defaults stay its own.
+  fem::SolverOptions options_{""};
   std::unique_ptr<fem::DistributedMesh> dmesh_;
   std::unique_ptr<physics::FsiProblem> problem_;
   std::unique_ptr<physics::FsiSolver> solver_;
