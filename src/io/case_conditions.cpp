@@ -152,38 +152,49 @@ bc::Inflow read_inflow(const ConditionKeys& k) {
   return in;
 }
 
+/// Every condition type, and every key any condition takes (from the table, once).
+struct Vocabulary {
+  std::vector<std::string_view> types, keys;
+};
+
+const Vocabulary& vocabulary() {
+  static const Vocabulary v = [] {
+    Vocabulary out{{"no_slip", "inflow"}, {"face", "type"}};
+    out.keys.insert(out.keys.end(), kInflowKeys.begin(), kInflowKeys.end());
+    for (const OutletRow& row : outlet_rows()) {
+      out.types.push_back(row.type);
+      for (std::string_view key : row.keys)
+        if (std::find(out.keys.begin(), out.keys.end(), key) == out.keys.end())
+          out.keys.push_back(key);
+    }
+    out.keys.push_back("backflow_beta");
+    return out;
+  }();
+  return v;
+}
+
 bc::BoundaryCondition read_condition(const YamlValue& v, const fs::path& case_dir,
                                      std::vector<GivenWaveform>& periodic) {
   if (!v.is_map())
     v.fail_expected("a mapping with face, type and the type's keys");
-  std::vector<std::string_view> types = {"no_slip", "inflow"}, every_key = {"face", "type"};
-  every_key.insert(every_key.end(), kInflowKeys.begin(), kInflowKeys.end());
-  for (const OutletRow& row : outlet_rows()) {
-    types.push_back(row.type);
-    for (std::string_view key : row.keys)
-      if (std::find(every_key.begin(), every_key.end(), key) == every_key.end())
-        every_key.push_back(key);
-  }
-  every_key.push_back("backflow_beta");
-  v.check_keys(every_key);
+  const Vocabulary& words = vocabulary();
+  v.check_keys(words.keys);
 
   bc::BoundaryCondition bc;
   const YamlValue face = v.require("face", "the name of a mesh face");
   bc.face = face.text();
   if (bc.face.empty())
     face.fail_expected("the name of a mesh face");
-  const YamlValue type_node =
-      v.require("type", join_names(std::vector<std::string>(types.begin(), types.end())));
-  const std::string type = type_node.choice(types);
+  const YamlValue type_node = v.require(
+      "type", join_names(std::vector<std::string>(words.types.begin(), words.types.end())));
+  const std::string type = type_node.choice(words.types);
 
-  // A key of another condition type is reported as not applying here, with this type.
+  // A key of another condition type (every key is one, checked above) is reported as not
+  // applying here, with this type.
   auto check = [&](const std::vector<std::string_view>& own) {
     std::vector<std::string_view> allowed = {"face", "type"};
     allowed.insert(allowed.end(), own.begin(), own.end());
-    for (const auto& [key, value] : v.entries())
-      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
-        value.fail(fmt::format("key '{}' does not apply here (type: {}); allowed keys: {}", key,
-                               type, fmt::join(allowed, ", ")));
+    v.check_keys(allowed, words.keys, "type: " + type);
   };
   const ConditionKeys keys(v, case_dir, periodic);
   if (type == "no_slip") {

@@ -7,7 +7,7 @@
 
 namespace tearflow::mesh {
 
-Mesh extract_region(const Mesh& mesh, const std::string& name) {
+int region_index(const Mesh& mesh, const std::string& name) {
   const auto it = std::find(mesh.regions.begin(), mesh.regions.end(), name);
   if (it == mesh.regions.end()) {
     std::string known;
@@ -15,7 +15,11 @@ Mesh extract_region(const Mesh& mesh, const std::string& name) {
       known += " '" + r + "'";
     input_error("{}: no volume region '{}'; its regions are{}", mesh.source, name, known);
   }
-  const int r = static_cast<int>(it - mesh.regions.begin());
+  return static_cast<int>(it - mesh.regions.begin());
+}
+
+Mesh extract_region(const Mesh& mesh, const std::string& name) {
+  const int r = region_index(mesh, name);
   Mesh out;
   out.points = mesh.points;
   out.regions = {name};

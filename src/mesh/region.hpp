@@ -9,6 +9,10 @@
 
 namespace tearflow::mesh {
 
+/// The index of volume region `name` in mesh.regions (its tets' tet_region); InputError
+/// naming the known regions if there is none.
+int region_index(const Mesh& mesh, const std::string& name);
+
 /// InputError naming the known regions if `mesh` has no region `name`.
 Mesh extract_region(const Mesh& mesh, const std::string& name);
 

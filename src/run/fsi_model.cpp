@@ -16,14 +16,10 @@ namespace tearflow::run {
 
 FsiModel::FsiModel(const io::Case& c, const mesh::Mesh& m, const fem::DistributedMesh& dmesh)
     : FlowModel(c, m, dmesh, Unstarted{}) {
-  auto region = [&](const char* name) {
-    return static_cast<int>(std::find(m.regions.begin(), m.regions.end(), name) -
-                            m.regions.begin());
-  };
   fsi_ = std::make_unique<physics::FsiProblem>(
       m, dmesh, fluid_properties(c), make_conditions(c, m), c.solid->material, c.solid->conditions,
       physics::GeneralizedAlpha::from_spectral_radius(c.time.spectral_radius),
-      physics::FsiRegions{region("fluid"), region("wall")});
+      physics::FsiRegions{mesh::region_index(m, "fluid"), mesh::region_index(m, "wall")});
   const double stiffness = fsi_->select_solver(c.time.step);
   if (fem::mpi_rank(dmesh.comm()) == 0)
     spdlog::info("the wall's stiffness number (E / rho) dt^2 / h^2 = {:.3g}: its block by {}",
@@ -86,8 +82,7 @@ void FsiModel::load_wall(double p0) {
   const std::vector<double> d = solid.gather(solid.solver().displacement()),
                             v = solid.gather(solid.solver().solution());
   // The wall mesh keeps the FSI mesh's wall nodes in their order (mesh/region.hpp).
-  const int region = static_cast<int>(
-      std::find(mesh_.regions.begin(), mesh_.regions.end(), "wall") - mesh_.regions.begin());
+  const int region = mesh::region_index(mesh_, "wall");
   std::vector<char> in_wall(mesh_.num_nodes(), 0);
   for (size_t e = 0; e < mesh_.tets.size(); ++e)
     if (mesh_.tet_region[e] == region)

@@ -41,7 +41,9 @@ public:
     std::string line;
     std::getline(in, line); // header
     for (int number = 2; std::getline(in, line); ++number) {
-      if (line.empty())
+      // Rows are appended as steps end: a last line without its newline was cut short by a
+      // kill or a full disk (after the checkpoint's step, whose rewrite ended in a newline).
+      if (line.empty() || in.eof())
         continue;
       int step = 0;
       try {

@@ -5,17 +5,9 @@
 
 #include "mesh/orient_faces.hpp"
 #include "mesh/pipe_generator.hpp"
+#include "mesh/region.hpp"
 
 namespace tearflow::verify {
-
-namespace {
-int region_index(const mesh::Mesh& m, const std::string& name) {
-  const auto it = std::find(m.regions.begin(), m.regions.end(), name);
-  if (it == m.regions.end())
-    input_error("{}: no region '{}'", m.source, name);
-  return static_cast<int>(it - m.regions.begin());
-}
-} // namespace
 
 FsiTube::FsiTube(FsiTubeSpec spec) : spec_(std::move(spec)), mesh_(mesh::make_pipe(spec_.pipe)) {
   const fem::SolverOptions::Scope options(options_);
@@ -24,13 +16,13 @@ FsiTube::FsiTube(FsiTubeSpec spec) : spec_(std::move(spec)), mesh_(mesh::make_pi
   problem_ = std::make_unique<physics::FsiProblem>(
       mesh_, *dmesh_, spec_.fluid, std::move(spec_.fluid_conditions), spec_.wall,
       spec_.wall_conditions, physics::GeneralizedAlpha::from_spectral_radius(spec_.rho_inf),
-      physics::FsiRegions{region_index(mesh_, "fluid"), region_index(mesh_, "wall")},
+      physics::FsiRegions{mesh::region_index(mesh_, "fluid"), mesh::region_index(mesh_, "wall")},
       spec_.moving_mesh);
   problem_->select_solver(spec_.dt);
   solver_ = std::make_unique<physics::FsiSolver>(*problem_, spec_.newton);
   on_interface_.assign(mesh_.points.size(), 0);
   in_fluid_.assign(mesh_.points.size(), 0);
-  const int fluid = region_index(mesh_, "fluid");
+  const int fluid = mesh::region_index(mesh_, "fluid");
   for (size_t e = 0; e < mesh_.tets.size(); ++e)
     if (mesh_.tet_region[e] == fluid)
       for (Index v : mesh_.tets[e])
