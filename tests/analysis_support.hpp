@@ -37,6 +37,9 @@ struct SyntheticRun {
   std::function<double(double)> amplitude = [](double t) {
     return 1.0 + 0.5 * std::sin(2.0 * M_PI * t / 0.8);
   };
+  /// A moving wall, as an FSI run writes it: each lumen's nodes displaced radially by
+  /// dilation(t) x their distance from its axis (point field `displacement`); none if empty.
+  std::function<double(double)> dilation;
 
   double h() const {
     double r = lumina.front().radius;
@@ -104,7 +107,17 @@ inline EdgeLengths write_synthetic_run(const SyntheticRun& run, const std::files
                       {0.0, 0.0, l.u_peak * a * (1.0 - rho2 / (l.radius * l.radius))});
       p.values.push_back(l.p_peak * a - run.gradient * x[2]);
     }
-    series.write(i, t, {u, p});
+    if (!run.dilation) {
+      series.write(i, t, {u, p});
+      continue;
+    }
+    io::PointField d{"displacement", 3, {}};
+    for (std::size_t n = 0; n < channel.points.size(); ++n) {
+      const Vec3& x = channel.points[n];
+      const double e = run.dilation(t);
+      d.values.insert(d.values.end(), {e * (x[0] - run.lumina[owner[n]].x), e * x[1], 0.0});
+    }
+    series.write(i, t, {u, p, d});
   }
   if (run.write_cycles) {
     std::ofstream(dir / "cycles.json")

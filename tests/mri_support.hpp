@@ -4,12 +4,27 @@
 // size, 12 across), and its one landmark plane across the pipe.
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
 
 #include "geometry/landmarks.hpp"
 #include "mri/plane_flow.hpp"
 #include "mri/synthetic.hpp"
 
 namespace tearflow::testing {
+
+/// The expected substring in the InputError that `f` throws.
+template <typename F> void expect_input_error(F f, const std::string& part) {
+  try {
+    f();
+    ADD_FAILURE() << "no error; expected one saying '" << part << "'";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
 
 /// mri::pulsatile_pipe_flow: Q0 = 0.35 m/s x pi R^2, swing 0.3: 0.65 to 1.35 Q0, so that an
 /// error relative to each frame's flow means something; peak centre-line velocity ~0.7 m/s.

@@ -13,20 +13,6 @@
 using namespace tearflow;
 using namespace tearflow::testing;
 
-namespace {
-
-/// The expected substring in the InputError that `f` throws.
-template <typename F> void expect_input_error(F f, const std::string& part) {
-  try {
-    f();
-    ADD_FAILURE() << "no error; expected one saying '" << part << "'";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-  }
-}
-
-} // namespace
-
 TEST(MriDicom, RoundTripKeepsGeometryAndFlows) {
   // Issue 9: noise-free, 1.5 mm voxels, 8 across -> DICOM -> read -> plane flow within 2 %
   // at every frame. Oblique (25 degrees) so that position and orientation are exercised.

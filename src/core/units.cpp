@@ -1,5 +1,8 @@
 #include "core/units.hpp"
 
+#include <regex>
+#include <string>
+
 #include "core/error.hpp"
 
 namespace tearflow::units {
@@ -32,6 +35,29 @@ double pressure_scale(std::string_view unit, std::string_view where) {
   if (unit == "dyn/cm2")
     return 0.1;
   input_error("{}: unknown pressure unit '{}' (expected Pa, mmHg or dyn/cm2)", where, unit);
+}
+
+double quantity(std::string_view text, std::string_view where, Dimension dimension) {
+  static const std::regex re(R"(\s*([-+0-9.eE]+)\s*([a-zA-Z/]*)\s*)");
+  const bool velocity = dimension == Dimension::velocity;
+  const std::string s(text);
+  std::smatch m;
+  if (!std::regex_match(s, m, re))
+    input_error("{} '{}': a number with a unit is expected (e.g. {})", where, text,
+                velocity ? "1.5m/s" : "1.5mm");
+  double value = 0;
+  try {
+    value = std::stod(m[1]);
+  } catch (...) {
+    input_error("{} '{}': not a number", where, text);
+  }
+  std::string unit = m[2];
+  if (velocity) {
+    if (unit.size() < 2 || unit.substr(unit.size() - 2) != "/s")
+      input_error("{} '{}': a velocity in m/s, cm/s or mm/s is expected", where, text);
+    unit = unit.substr(0, unit.size() - 2);
+  }
+  return value * length_scale(unit, where);
 }
 
 } // namespace tearflow::units

@@ -20,4 +20,10 @@ double flow_scale(std::string_view unit, std::string_view where);
 /// Pa per one pressure unit ("Pa", "mmHg", "dyn/cm2").
 double pressure_scale(std::string_view unit, std::string_view where);
 
+enum class Dimension { length, velocity };
+
+/// A command-line quantity, a number with its unit, in SI: "1.5mm", "0.2 cm", "2e-3m" (length);
+/// "1.5m/s", "150cm/s" (velocity). InputError naming `where` (the option) otherwise.
+double quantity(std::string_view text, std::string_view where, Dimension dimension);
+
 } // namespace tearflow::units

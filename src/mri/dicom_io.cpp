@@ -1,8 +1,10 @@
-// 4D-flow DICOM through ITK's GDCM image I/O (image_io.hpp for the conventions). Each file is
-// one slice of one frame of one series; ITK reads its pixels (rescaled by RescaleSlope and
+// Reading MRI DICOM through ITK's GDCM image I/O (image_io.hpp for the conventions). Each file
+// is one slice of one frame of one series; ITK reads its pixels (rescaled by RescaleSlope and
 // Intercept), position, orientation and spacing, and its tags as strings. The files are
-// grouped into series (magnitude, x, y, z phase), frames (TriggerTime) and slices (position
-// along the slice normal), checked to share one geometry, and assembled into a Flow4D.
+// grouped into series (magnitude; x, y, z phase for 4D flow, or one through-plane phase for 2D
+// phase contrast, or none for cine), frames (TriggerTime) and slices (position along the slice
+// normal), checked to share one geometry, and assembled into a Flow4D. The writer is
+// dicom_write.cpp.
 #include "mri/image_io.hpp"
 
 #include <algorithm>
@@ -18,11 +20,8 @@
 #include <thread>
 
 #include <fmt/format.h>
-#include <gdcmAttribute.h>
 #include <gdcmReader.h>
 #include <gdcmTrace.h>
-#include <gdcmUIDGenerator.h>
-#include <gdcmWriter.h>
 #include <itkGDCMImageIO.h>
 #include <itkImage.h>
 #include <itkImageFileReader.h>
@@ -61,139 +60,6 @@ std::optional<double> number(const std::string& s) {
 } // namespace
 
 // ---------------------------------------------------------------------------------------
-// Writing: straight through GDCM's data-set writer (ITK's writer turns a rescaled MR image
-// into an enhanced MR object; GDCM's image writer resets RescaleType and drops private
-// elements), so that the files are classic MR images with exactly these elements.
-
-namespace {
-
-/// Sets a string-valued element (padded to even length as DICOM requires).
-void put(gdcm::DataSet& ds, std::uint16_t group, std::uint16_t element, gdcm::VR vr,
-         std::string value) {
-  if (value.size() % 2)
-    value += vr == gdcm::VR::UI ? '\0' : ' ';
-  gdcm::DataElement de(gdcm::Tag(group, element));
-  de.SetVR(vr);
-  de.SetByteValue(value.data(), static_cast<std::uint32_t>(value.size()));
-  ds.Replace(de);
-}
-
-} // namespace
-
-void write_dicom(const Flow4D& data, const fs::path& dir, const DicomWriteOptions& options) {
-  data.check("write_dicom");
-  const ImageGrid& g = data.grid;
-  if (options.convention == PhaseConvention::classic && options.write_venc && !(data.venc > 0))
-    input_error("write_dicom '{}': classic phase images need a venc", dir.string());
-  gdcm::UIDGenerator uid;
-  const std::string study = uid.Generate(), frame_of_reference = uid.Generate();
-  float max_magnitude = 0.0f;
-  for (const Frame& f : data.frames)
-    for (float m : f.magnitude)
-      max_magnitude = std::max(max_magnitude, m);
-  const int venc_cm = static_cast<int>(std::lround(data.venc * 100));
-  const bool siemens_venc = options.write_venc && options.convention == PhaseConvention::classic;
-  const bool ge_venc = options.write_venc && options.convention == PhaseConvention::rescaled;
-  const std::size_t per_slice = std::size_t(g.size[0]) * g.size[1];
-  std::vector<std::uint16_t> stored(per_slice);
-  for (int s = 0; s < 4; ++s) {
-    if ((s == 0 && !options.write_magnitude) || (s == 3 && !options.write_vz))
-      continue;
-    const std::string name = s == 0 ? "magnitude" : fmt::format("v{}", "xyz"[s - 1]);
-    const fs::path series_dir = dir / name;
-    fs::create_directories(series_dir);
-    const std::string series_uid = uid.Generate();
-    const std::string direction = s == 0 ? "in" : kComponentNames[s - 1];
-    const std::string sequence = siemens_venc ? fmt::format("fl3d1_v{}{}", venc_cm, direction)
-                                              : fmt::format("fl3d1_{}", direction);
-    const bool phase = s > 0, classic = options.convention == PhaseConvention::classic;
-    // Stored values: magnitude 0..4000 over the data's range; classic phase 12 bits,
-    // Siemens' RescaleSlope 2 / Intercept -4096, so that x = 2 p - 4096 = v / venc 4096;
-    // rescaled phase: 16 bits, v [cm/s] = 0.05 p - 1638.4.
-    const int bits = phase && classic ? 12 : 16;
-    const double slope = !phase ? 1.0 : (classic ? 2.0 : 0.05);
-    const double intercept = !phase ? 0.0 : (classic ? -4096.0 : -1638.4);
-    for (std::size_t f = 0; f < data.frames.size(); ++f) {
-      const Frame& fr = data.frames[f];
-      for (int k = 0; k < g.size[2]; ++k) {
-        const std::size_t offset = g.linear(0, 0, k);
-        for (std::size_t p = 0; p < per_slice; ++p) {
-          double value;
-          if (!phase)
-            value = std::round(fr.magnitude[offset + p] / max_magnitude * 4000.0);
-          else if (classic)
-            value = std::round((fr.velocity[s - 1][offset + p] / data.venc + 1.0) * 2048.0);
-          else
-            value = std::round((fr.velocity[s - 1][offset + p] * 100.0 - intercept) / slope);
-          stored[p] = static_cast<std::uint16_t>(std::clamp(value, 0.0, (1 << bits) - 1.0));
-        }
-        // The data set element by element, written by gdcm::Writer as it is (GDCM's image
-        // writer would override RescaleType and drop private elements).
-        gdcm::Writer w;
-        gdcm::DataSet& ds = w.GetFile().GetDataSet();
-        w.GetFile().GetHeader().SetDataSetTransferSyntax(
-            gdcm::TransferSyntax::ExplicitVRLittleEndian);
-        const Vec3 o = g.point({0.0, 0.0, double(k)});
-        put(ds, 0x0020, 0x0032, gdcm::VR::DS, // DICOM lengths are mm
-            fmt::format("{:.10g}\\{:.10g}\\{:.10g}", o[0] * 1e3, o[1] * 1e3, o[2] * 1e3));
-        put(ds, 0x0020, 0x0037, gdcm::VR::DS,
-            fmt::format("{:.10g}\\{:.10g}\\{:.10g}\\{:.10g}\\{:.10g}\\{:.10g}", g.direction[0][0],
-                        g.direction[0][1], g.direction[0][2], g.direction[1][0], g.direction[1][1],
-                        g.direction[1][2]));
-        // PixelSpacing is row spacing (between rows, along j) \\ column spacing (along i).
-        put(ds, 0x0028, 0x0030, gdcm::VR::DS,
-            fmt::format("{:.10g}\\{:.10g}", g.spacing[1] * 1e3, g.spacing[0] * 1e3));
-        put(ds, 0x0028, 0x0004, gdcm::VR::CS, "MONOCHROME2");
-        ds.Replace(gdcm::Attribute<0x0028, 0x0002>{1}.GetAsDataElement()); // samples per pixel
-        ds.Replace(gdcm::Attribute<0x0028, 0x0010>{static_cast<std::uint16_t>(g.size[1])}
-                       .GetAsDataElement()); // rows
-        ds.Replace(gdcm::Attribute<0x0028, 0x0011>{static_cast<std::uint16_t>(g.size[0])}
-                       .GetAsDataElement()); // columns
-        ds.Replace(gdcm::Attribute<0x0028, 0x0100>{16}.GetAsDataElement());
-        ds.Replace(
-            gdcm::Attribute<0x0028, 0x0101>{static_cast<std::uint16_t>(bits)}.GetAsDataElement());
-        ds.Replace(gdcm::Attribute<0x0028, 0x0102>{static_cast<std::uint16_t>(bits - 1)}
-                       .GetAsDataElement());
-        ds.Replace(gdcm::Attribute<0x0028, 0x0103>{0}.GetAsDataElement()); // unsigned
-        gdcm::DataElement pixels(gdcm::Tag(0x7fe0, 0x0010));
-        pixels.SetVR(gdcm::VR::OW);
-        pixels.SetByteValue(reinterpret_cast<const char*>(stored.data()),
-                            static_cast<std::uint32_t>(per_slice * sizeof(std::uint16_t)));
-        ds.Replace(pixels);
-        put(ds, 0x0008, 0x0016, gdcm::VR::UI, "1.2.840.10008.5.1.4.1.1.4"); // MR Image Storage
-        put(ds, 0x0008, 0x0018, gdcm::VR::UI, uid.Generate());
-        put(ds, 0x0008, 0x0008, gdcm::VR::CS,
-            phase ? "ORIGINAL\\PRIMARY\\P\\ND" : "ORIGINAL\\PRIMARY\\M\\ND");
-        put(ds, 0x0008, 0x0060, gdcm::VR::CS, "MR");
-        put(ds, 0x0008, 0x103e, gdcm::VR::LO,
-            phase ? fmt::format("4D flow velocity {}", direction) : "4D flow magnitude");
-        put(ds, 0x0018, 0x0024, gdcm::VR::SH, sequence);
-        put(ds, 0x0018, 0x0050, gdcm::VR::DS, fmt::format("{:.6g}", g.spacing[2] * 1e3));
-        put(ds, 0x0018, 0x0088, gdcm::VR::DS, fmt::format("{:.6g}", g.spacing[2] * 1e3));
-        put(ds, 0x0018, 0x1060, gdcm::VR::DS, fmt::format("{:.6g}", fr.time * 1e3));
-        put(ds, 0x0020, 0x000d, gdcm::VR::UI, study);
-        put(ds, 0x0020, 0x000e, gdcm::VR::UI, series_uid);
-        put(ds, 0x0020, 0x0011, gdcm::VR::IS, std::to_string(s + 1));
-        put(ds, 0x0020, 0x0013, gdcm::VR::IS, std::to_string(f * g.size[2] + k + 1));
-        put(ds, 0x0020, 0x0052, gdcm::VR::UI, frame_of_reference);
-        put(ds, 0x0028, 0x1052, gdcm::VR::DS, fmt::format("{:g}", intercept));
-        put(ds, 0x0028, 0x1053, gdcm::VR::DS, fmt::format("{:g}", slope));
-        if (phase && !classic)
-          put(ds, 0x0028, 0x1054, gdcm::VR::LO, "cm/s");
-        if (phase && ge_venc) { // GE: venc in mm/s in a private element
-          put(ds, 0x0019, 0x0010, gdcm::VR::LO, "GEMS_ACQU_01");
-          put(ds, 0x0019, 0x10cc, gdcm::VR::DS, fmt::format("{:g}", data.venc * 1e3));
-        }
-        const fs::path file = series_dir / fmt::format("IM_{:04d}_{:04d}.dcm", f, k);
-        w.SetFileName(file.string().c_str());
-        if (!w.Write())
-          input_error("cannot write '{}'", file.string());
-      }
-    }
-  }
-}
-
-// ---------------------------------------------------------------------------------------
 // Reading
 
 namespace {
@@ -202,7 +68,7 @@ namespace {
 struct SliceFile {
   fs::path file;
   std::string series_uid, image_type, sequence, description, rescale_type;
-  double trigger_ms = 0.0, intercept = 0.0;
+  double trigger_ms = 0.0, intercept = 0.0, nominal_interval_ms = 0.0;
   int bits_stored = 12;
   std::optional<double> venc; ///< [m/s]
   bool enhanced = false;
@@ -308,6 +174,7 @@ SliceFile read_slice(const fs::path& file) {
   s.rescale_type = lower(tag(d, "0028|1054"));
   s.trigger_ms = number(tag(d, "0018|1060")).value_or(0.0);
   s.intercept = number(tag(d, "0028|1052")).value_or(0.0);
+  s.nominal_interval_ms = number(tag(d, "0018|1062")).value_or(0.0);
   s.bits_stored = static_cast<int>(number(tag(d, "0028|0101")).value_or(12));
   s.venc = venc_of(d);
   const std::string sop_class = tag(d, "0008|0016");
@@ -317,7 +184,9 @@ SliceFile read_slice(const fs::path& file) {
   return s;
 }
 
-/// 0 magnitude, 1..3 the phase component x, y, z; -1 unknown.
+/// 0 magnitude, 1..3 the phase component x, y, z, 4 the through-plane phase of a 2D scan
+/// (SequenceName or SeriesDescription ending in "in" or "through": Siemens' fl2d1_v150in);
+/// -1 not an MR magnitude or phase image, -2 a phase image of no direction known.
 int series_role(const SliceFile& s) {
   std::vector<std::string> parts;
   std::string part;
@@ -336,14 +205,18 @@ int series_role(const SliceFile& s) {
     return 0;
   if (!phase)
     return -1;
+  const auto ends_with = [](const std::string& text, const std::string& suffix) {
+    return text.size() >= suffix.size() &&
+           text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
   for (const std::string& text : {lower(s.sequence), lower(s.description)}) {
-    for (int c = 0; c < 3; ++c) {
-      const std::string suffix = kComponentNames[c];
-      if (text.size() >= 2 && text.compare(text.size() - 2, 2, suffix) == 0)
+    for (int c = 0; c < 3; ++c)
+      if (ends_with(text, kComponentNames[c]))
         return c + 1;
-    }
+    if (ends_with(text, "in") || ends_with(text, "through"))
+      return 4;
   }
-  return -2; // a phase series whose direction cannot be told
+  return -2;
 }
 
 /// The frames of one series: slices per trigger time, sorted along the slice normal.
@@ -477,42 +350,65 @@ Flow4D read_dicom(const fs::path& dir, const ReadOptions& options) {
                   "per slice and frame) are read - convert it to classic images first",
                   f.file.string());
 
-  // Four series by role.
-  std::array<std::map<std::string, std::vector<SliceFile*>>, 4> roles;
+  // The series by role; which are present says what the scan is.
+  std::array<std::map<std::string, std::vector<SliceFile*>>, 5> roles;
   for (SliceFile& f : files) {
     const int role = series_role(f);
     if (role == -2)
       input_error("'{}' (series '{}'): a phase image whose velocity direction is not named; its "
-                  "SequenceName or SeriesDescription must end in rl, ap or fh",
+                  "SequenceName or SeriesDescription must end in rl, ap or fh (4D flow) or in, "
+                  "through (2D through-plane phase contrast)",
                   f.file.string(), f.description);
     if (role >= 0)
       roles[role][f.series_uid].push_back(&f);
   }
-  const char* role_names[] = {"magnitude", "phase rl (x)", "phase ap (y)", "phase fh (z)"};
-  std::array<Series, 4> series;
-  for (int r = 0; r < 4; ++r) {
+  const char* role_names[] = {"magnitude", "phase rl (x)", "phase ap (y)", "phase fh (z)",
+                              "through-plane phase"};
+  Flow4D out;
+  std::vector<int> present{0};
+  if (!roles[4].empty()) {
+    for (int r = 1; r < 4; ++r)
+      if (!roles[r].empty())
+        input_error("'{}': both a through-plane phase series (2D phase contrast) and a {} series "
+                    "(4D flow); one scan per folder is expected",
+                    dir.string(), role_names[r]);
+    out.encoding = Encoding::through_plane;
+    present.push_back(4);
+  } else if (!roles[1].empty() || !roles[2].empty() || !roles[3].empty()) {
+    present.insert(present.end(), {1, 2, 3});
+  } else {
+    out.encoding = Encoding::magnitude;
+  }
+  std::vector<Series> series;
+  for (int r : present) {
     if (roles[r].empty())
       input_error("'{}': no {} series; 4D flow needs one magnitude series (ImageType M) and three "
                   "phase series (ImageType P) whose SequenceName or SeriesDescription ends in "
-                  "rl, ap and fh",
+                  "rl, ap and fh; 2D phase contrast a magnitude and one through-plane phase "
+                  "series; cine a magnitude series",
                   dir.string(), role_names[r]);
     if (roles[r].size() > 1)
       input_error("'{}': {} {} series (SeriesInstanceUIDs); one of each is expected", dir.string(),
                   roles[r].size(), role_names[r]);
-    series[r] = organise(role_names[r], roles[r].begin()->second);
+    series.push_back(organise(role_names[r], roles[r].begin()->second));
   }
 
   // One frame count, one grid, one slice count.
   const std::string where0 = fmt::format("'{}', {} series", dir.string(), role_names[0]);
   const ImageGrid grid = frame_grid(series[0].frames[0], where0);
-  for (int r = 0; r < 4; ++r) {
+  if (out.encoding != Encoding::velocity_3d && grid.size[2] != 1)
+    input_error("'{}': {} with {} slices per frame; a 2D scan (phase contrast or cine) is one "
+                "slice: give each slice's folder on its own",
+                dir.string(), encoding_name(out.encoding), grid.size[2]);
+  for (std::size_t r = 0; r < series.size(); ++r) {
+    const char* name = role_names[present[r]];
     if (series[r].frames.size() != series[0].frames.size())
       input_error("'{}': the {} series has {} frames (trigger times), the magnitude {}; every "
                   "series must hold the same frames",
-                  dir.string(), role_names[r], series[r].frames.size(), series[0].frames.size());
+                  dir.string(), name, series[r].frames.size(), series[0].frames.size());
     for (std::size_t f = 0; f < series[r].frames.size(); ++f) {
-      const std::string where = fmt::format("'{}', {} series, frame {} ({} ms)", dir.string(),
-                                            role_names[r], f, series[r].times_ms[f]);
+      const std::string where = fmt::format("'{}', {} series, frame {} ({} ms)", dir.string(), name,
+                                            f, series[r].times_ms[f]);
       if (!frame_grid(series[r].frames[f], where).same_as(grid))
         input_error("{}: its slices differ from the magnitude's first frame in number, "
                     "position, orientation or spacing; all series and frames must share one "
@@ -524,58 +420,66 @@ Flow4D read_dicom(const fs::path& dir, const ReadOptions& options) {
     }
   }
 
-  // Venc and the phase-to-velocity mapping per component.
-  Flow4D out;
+  // Venc and the phase-to-velocity mapping per phase series.
   out.grid = grid;
-  std::array<std::optional<double>, 3> venc;
-  std::array<double, 3> velocity_unit{}; // rescaled-to-velocity: m/s per unit, else 0
-  for (int c = 0; c < 3; ++c) {
-    const SliceFile& f = *series[c + 1].frames[0][0];
-    venc[c] = options.venc > 0 ? std::optional<double>(options.venc) : f.venc;
+  out.period = series[0].frames[0][0]->nominal_interval_ms * 1e-3;
+  std::vector<std::optional<double>> venc(series.size());
+  std::vector<double> velocity_unit(series.size()); // rescaled-to-velocity: m/s per unit, else 0
+  for (std::size_t r = 1; r < series.size(); ++r) {
+    const SliceFile& f = *series[r].frames[0][0];
+    venc[r] = options.venc > 0 ? std::optional<double>(options.venc) : f.venc;
     if (f.rescale_type == "cm/s" || f.rescale_type == "cm/sec")
-      velocity_unit[c] = 1e-2;
+      velocity_unit[r] = 1e-2;
     else if (f.rescale_type == "mm/s")
-      velocity_unit[c] = 1e-3;
+      velocity_unit[r] = 1e-3;
     else if (f.rescale_type == "m/s")
-      velocity_unit[c] = 1.0;
-    if (velocity_unit[c] == 0 && !venc[c])
+      velocity_unit[r] = 1.0;
+    if (velocity_unit[r] == 0 && !venc[r])
       input_error("'{}', {} series (SequenceName '{}'): no venc. Classic phase images need it "
                   "from the SequenceName ('..._v<cm/s><dir>'), GE's (0019,10cc), Philips' "
                   "(2001,101a) or (0018,9217), or from --venc; images rescaled to velocity need "
                   "RescaleType 'cm/s', 'mm/s' or 'm/s'",
-                  dir.string(), role_names[c + 1], f.sequence);
-    if (venc[c])
-      out.venc = std::max(out.venc, *venc[c]);
+                  dir.string(), role_names[present[r]], f.sequence);
+    if (venc[r])
+      out.venc = std::max(out.venc, *venc[r]);
   }
   const std::size_t per_slice = std::size_t(grid.size[0]) * grid.size[1];
+  std::vector<float> along(per_slice); // one phase image as velocity [m/s]
   for (std::size_t f = 0; f < series[0].frames.size(); ++f) {
     Frame fr;
     fr.time = series[0].times_ms[f] * 1e-3;
     fr.magnitude.resize(grid.count());
     for (auto& v : fr.velocity)
-      v.resize(grid.count());
-    for (int r = 0; r < 4; ++r)
+      v.assign(grid.count(), 0.0f);
+    for (int k = 0; k < grid.size[2]; ++k) {
+      const float* px = series[0].frames[f][k]->image->GetBufferPointer();
+      std::copy(px, px + per_slice, fr.magnitude.data() + grid.linear(0, 0, k));
+    }
+    for (std::size_t r = 1; r < series.size(); ++r)
       for (int k = 0; k < grid.size[2]; ++k) {
         const SliceFile& sf = *series[r].frames[f][k];
         const float* px = sf.image->GetBufferPointer();
-        float* dst = r == 0 ? fr.magnitude.data() : fr.velocity[r - 1].data();
-        dst += grid.linear(0, 0, k);
-        if (r == 0) {
-          std::copy(px, px + per_slice, dst);
-          continue;
-        }
-        const int c = r - 1;
-        if (velocity_unit[c] > 0) {
+        if (velocity_unit[r] > 0) {
           for (std::size_t p = 0; p < per_slice; ++p)
-            dst[p] = static_cast<float>(px[p] * velocity_unit[c]);
+            along[p] = static_cast<float>(px[p] * velocity_unit[r]);
         } else if (sf.intercept < 0) { // x in [-|b|, |b|)
-          const double scale = *venc[c] / -sf.intercept;
+          const double scale = *venc[r] / -sf.intercept;
           for (std::size_t p = 0; p < per_slice; ++p)
-            dst[p] = static_cast<float>(px[p] * scale);
+            along[p] = static_cast<float>(px[p] * scale);
         } else { // x in [0, 2^bits)
           const double half = std::ldexp(1.0, sf.bits_stored - 1);
           for (std::size_t p = 0; p < per_slice; ++p)
-            dst[p] = static_cast<float>((px[p] - half) / half * *venc[c]);
+            along[p] = static_cast<float>((px[p] - half) / half * *venc[r]);
+        }
+        // 4D flow: the component itself; through-plane: v_n n (flow_dataset.hpp).
+        const std::size_t offset = grid.linear(0, 0, k);
+        for (int c = 0; c < 3; ++c) {
+          const double share = present[r] == 4 ? grid.direction[2][c] : (present[r] == c + 1);
+          if (share == 0.0)
+            continue;
+          float* dst = fr.velocity[c].data() + offset;
+          for (std::size_t p = 0; p < per_slice; ++p)
+            dst[p] = static_cast<float>(along[p] * share);
         }
       }
     out.frames.push_back(std::move(fr));

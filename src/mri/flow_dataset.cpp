@@ -71,10 +71,31 @@ Mat3 rotation(const Vec3& axis, double degrees) {
   return rows;
 }
 
+const char* encoding_name(Encoding e) {
+  switch (e) {
+  case Encoding::velocity_3d:
+    return "4D flow";
+  case Encoding::through_plane:
+    return "2D phase contrast (through-plane)";
+  case Encoding::magnitude:
+    return "cine (magnitude only)";
+  }
+  return "?";
+}
+
+void Flow4D::require(Encoding e, const std::string& where) const {
+  if (encoding != e)
+    input_error("{}: a {} scan is needed, this is {}", where, encoding_name(e),
+                encoding_name(encoding));
+}
+
 void Flow4D::check(const std::string& where) const {
   const std::size_t n = grid.count();
   if (n == 0)
     input_error("{}: empty image grid", where);
+  if (encoding != Encoding::velocity_3d && grid.size[2] != 1)
+    input_error("{}: a {} scan has one slice, this one {}", where, encoding_name(encoding),
+                grid.size[2]);
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const Frame& fr = frames[f];
     if (fr.magnitude.size() != n || fr.velocity[0].size() != n || fr.velocity[1].size() != n ||

@@ -51,13 +51,32 @@ struct Frame {
   std::array<std::vector<float>, 3> velocity; ///< LPS components [m/s], per voxel
 };
 
+/// What a series measures. The 2D scans of the reference study are this dataset with one
+/// slice (grid.size[2] == 1), so that reading, noise, corrections and plane measurement are
+/// the 4D path's own.
+enum class Encoding {
+  velocity_3d,   ///< 4D flow: three velocity components
+  through_plane, ///< 2D phase contrast: velocity along the slice normal (grid.direction[2])
+                 ///< only, stored as v_n n (so v . n is the measured value; the in-plane
+                 ///< components were not measured, not zero)
+  magnitude,     ///< cine: magnitude only (velocity kept as zeros)
+};
+
+/// "4D flow", "2D phase contrast", "cine": for messages.
+const char* encoding_name(Encoding e);
+
 struct Flow4D {
   ImageGrid grid;
+  Encoding encoding = Encoding::velocity_3d;
   double venc = 0.0;         ///< velocity encoding [m/s]: +-venc is the phase range; 0 unknown
   double frame_window = 0.0; ///< time each frame averages over [s]; 0 unknown
+  double period = 0.0;       ///< the cardiac cycle (R-R interval) the frames span [s]; 0 unknown
   std::vector<Frame> frames; ///< in time order
-  /// InputError (naming `where`) for frames of the wrong size or out of time order.
+  /// InputError (naming `where`) for frames of the wrong size or out of time order, or a 2D
+  /// encoding on more than one slice.
   void check(const std::string& where) const;
+  /// InputError naming `where` and what it needs when the data is not `e`.
+  void require(Encoding e, const std::string& where) const;
 };
 
 /// The eight voxels and weights of trilinear interpolation at a continuous index, found

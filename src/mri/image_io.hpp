@@ -16,6 +16,10 @@
 //     Encoding Maximum Value (0018,9217) [cm/s] when a classic file carries it, or --venc;
 //   - rescaled to velocity: RescaleType (0028,1054) "cm/s", "mm/s" or "m/s": the rescaled
 //     pixel is the velocity in that unit (venc then optional, read as above when present).
+// 2D scans, one slice per frame: 2D phase contrast (the magnitude and one phase series whose
+// SequenceName or SeriesDescription ends in "in" or "through", as Siemens' fl2d1_v150in; the
+// velocity along the slice normal row x column, whose sign the caller settles) and cine (a
+// magnitude series alone); NominalInterval (0018,1062) gives the R-R interval when present.
 // The enhanced MR multi-frame object (one file, per-frame functional groups with the MR
 // Velocity Encoding Sequence) is not read: InputError says so.
 //
@@ -41,7 +45,8 @@ struct DicomWriteOptions {
   bool write_magnitude = true, write_vz = true; ///< false: to test missing series
 };
 
-/// Writes four series under `dir` (magnitude/, vx/, vy/, vz/; one file per slice and frame).
+/// Writes the series of `data`'s encoding under `dir` (one file per slice and frame): 4D flow
+/// magnitude/, vx/, vy/, vz/; 2D phase contrast magnitude/, through/; cine magnitude/.
 void write_dicom(const Flow4D& data, const std::filesystem::path& dir,
                  const DicomWriteOptions& options = {});
 
@@ -55,7 +60,8 @@ struct ReadOptions {
 /// no venc for classic phase.
 Flow4D read_dicom(const std::filesystem::path& dir, const ReadOptions& options = {});
 
-/// Writes magnitude, vx, vy, vz as 4D images with extension `ext` (".nii.gz", ".mha", ...).
+/// Writes magnitude, vx, vy, vz as 4D images with extension `ext` (".nii.gz", ".mha", ...);
+/// 4D flow only (InputError for a 2D scan: those are written as DICOM).
 void write_volumes(const Flow4D& data, const std::filesystem::path& dir,
                    const std::string& ext = ".nii.gz");
 

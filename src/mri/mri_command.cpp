@@ -13,20 +13,27 @@
 #include <unistd.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "analysis/hemodynamics.hpp"
+#include "bc/face_geometry.hpp"
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
 #include "core/units.hpp"
+#include "io/case.hpp"
+#include "mesh/orient_faces.hpp"
 #include "mri/alignment.hpp"
 #include "mri/compare.hpp"
+#include "mri/corrected_scan.hpp"
 #include "mri/corrections.hpp"
 #include "mri/image_io.hpp"
 #include "mri/plane_flow.hpp"
+#include "mri/scan2d_command.hpp"
 #include "mri/surface_alignment.hpp"
 #include "mri/synthetic.hpp"
 #include "mri/synthetic_run.hpp"
+#include "run/flow_model.hpp"
 
 namespace tearflow::mri {
 
@@ -34,30 +41,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// "1.5mm", "0.2 cm", "2e-3m" -> metres; "1.5m/s", "150cm/s" -> m/s. InputError naming the
-/// option otherwise.
 double quantity(const std::string& text, const std::string& option, bool velocity) {
-  static const std::regex re(R"(\s*([-+0-9.eE]+)\s*([a-zA-Z/]*)\s*)");
-  std::smatch m;
-  if (!std::regex_match(text, m, re))
-    input_error("{} '{}': a number with a unit is expected (e.g. {})", option, text,
-                velocity ? "1.5m/s" : "1.5mm");
-  double value = 0;
-  try {
-    value = std::stod(m[1]);
-  } catch (...) {
-    input_error("{} '{}': not a number", option, text);
-  }
-  std::string unit = m[2];
-  if (velocity) {
-    if (unit.size() < 2 || unit.substr(unit.size() - 2) != "/s")
-      input_error("{} '{}': a velocity in m/s, cm/s or mm/s is expected", option, text);
-    unit = unit.substr(0, unit.size() - 2);
-  }
-  return value * units::length_scale(unit, option);
+  return units::quantity(text, option,
+                         velocity ? units::Dimension::velocity : units::Dimension::length);
 }
 
-/// A linear + quadratic offset per component (monomials of corrections.hpp), |b| <~ a.
+/// A linear + quadratic offset per component (monomials of corrections.hpp), |b| <~ a; of a
+/// 2D scan what its encoding measures of it.
 void inject_background(Flow4D& data, double a) {
   if (a == 0)
     return;
@@ -65,6 +55,7 @@ void inject_background(Flow4D& data, double a) {
   add_background(data, {V{0.2 * a, 0.3 * a, -0.2 * a, 0.1 * a, 0.2 * a, 0, -0.1 * a, 0, 0, 0},
                         V{-0.3 * a, 0, 0.2 * a, 0, 0, 0.15 * a, 0, 0, -0.1 * a, 0.05 * a},
                         V{0.1 * a, -0.1 * a, 0, 0.3 * a, 0, 0, 0.2 * a, 0, 0.1 * a, 0}});
+  encode(data, data.encoding);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -92,13 +83,30 @@ MriCommand::MriCommand(CLI::App& app) {
   synthesize_->add_option("--radius", radius_, "pipe radius (default 10mm)");
   synthesize_->add_option("--tissue", tissue_, "static tissue out to this radius (default 2x)");
   synthesize_->add_option("--size", size_, "voxels NX,NY,NZ (default: 5 radii across, 12 slices)");
-  synthesize_->add_option("--rotate", rotate_, "grid rotated by this many degrees about (1,1,0)");
+  synthesize_->add_option("--rotate", rotate_,
+                          "grid rotated by this many degrees about (1,1,0); a run's 2D slices "
+                          "tilted by it from their landmark planes");
   synthesize_->add_option("--background", background_,
                           "add a linear + quadratic phase offset of this size (default 0m/s)");
   synthesize_->add_option("--seed", seed_, "noise seed (default 1)");
   synthesize_
       ->add_option("--format", format_, "dicom (classic phase), dicom-rescaled, nifti or mha")
       ->check(CLI::IsMember({"dicom", "dicom-rescaled", "nifti", "mha"}));
+  synthesize_
+      ->add_option("--scan-type", scan_type_,
+                   "4d (4D flow, default), pc (2D through-plane phase contrast) or cine (2D)")
+      ->check(CLI::IsMember({"4d", "pc", "cine"}));
+  synthesize_
+      ->add_option("--at", at_, "2D scans of a run: at these landmark planes (default: every one)")
+      ->delimiter(',');
+  synthesize_->add_option("--thickness", thickness_, "2D slice thickness (default 6mm)");
+  synthesize_->add_option("--case", case_file_,
+                          "2D scans of a run: its case, so that --at may name mesh faces (a "
+                          "slice across the vessel inside an outlet)");
+  synthesize_->add_option("--landmarks", landmarks_,
+                          "2D scans of a run: its landmarks (default RUN_DIR/geometry/"
+                          "landmarks.json)");
+  synthesize_->add_option("--fov", fov_, "2D field of view, square side (default 80mm)");
 
   flow_ = command_->add_subcommand("flow", "landmark flow, area and peak velocity of a scan "
                                            "(DICOM folder or NIfTI/MetaImage volumes)");
@@ -133,9 +141,14 @@ MriCommand::MriCommand(CLI::App& app) {
                        "and angle differences in the lumen (the simulation must be a run)");
   compare_->add_option("--venc", venc_override_, "velocity encoding of --scan, if not in it");
   compare_->add_flag("-q,--quiet", quiet_, "no summary lines");
+  scans_ = std::make_unique<Scan2dCommands>(*command_);
 }
 
+MriCommand::~MriCommand() = default;
+
 int MriCommand::run() const {
+  if (scans_->selected())
+    return scans_->run();
   if (synthesize_->parsed())
     return synthesize();
   if (flow_->parsed())
@@ -143,7 +156,107 @@ int MriCommand::run() const {
   return compare();
 }
 
+namespace {
+
+/// Rows e1, e2, n: a slice's in-plane axes and its normal n (unit).
+Mat3 slice_axes(Vec3 n) {
+  n = (1.0 / std::sqrt(dot(n, n))) * n;
+  const Vec3 helper = std::abs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  Vec3 e1 = cross(n, helper);
+  e1 = (1.0 / std::sqrt(dot(e1, e1))) * e1;
+  return {e1, cross(n, e1), n};
+}
+
+Encoding encoding_of(const std::string& scan_type) {
+  return scan_type == "pc" ? Encoding::through_plane
+                           : (scan_type == "cine" ? Encoding::magnitude : Encoding::velocity_3d);
+}
+
+} // namespace
+
+int MriCommand::synthesize_slices_of_run() const {
+  const auto t0 = std::chrono::steady_clock::now();
+  const fs::path landmarks_file =
+      landmarks_.empty() ? RunFiles{run_dir_}.geometry().landmarks() : fs::path(landmarks_);
+  const geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_file);
+  const double pixel = quantity(voxel_, "--voxel", false);
+  const double thickness = quantity(thickness_, "--thickness", false);
+  const double fov = quantity(fov_, "--fov", false);
+  if (!(pixel > 0) || !(thickness > 0) || !(fov > pixel))
+    input_error("mri synthesize: --voxel, --thickness and --fov must be positive, the field of "
+                "view larger than a pixel");
+  // Planes across the vessels inside named faces: the face's centroid moved inwards by half
+  // the slice and 3 mm (a slab centred on the face would be half outside the fluid), its
+  // normal downstream as a landmark's: the outward normal at an outlet, the inward one at an
+  // inflow face. They replace landmarks of the same name (the model's inlet and outlet
+  // landmarks lie on the faces).
+  geometry::Landmarks planes = landmarks;
+  if (!case_file_.empty()) {
+    const io::Case c = io::load_case(case_file_);
+    mesh::Mesh m = run::load_mesh(c);
+    mesh::orient_faces_outward(m);
+    for (const std::string& name : at_)
+      if (m.has_face(name)) {
+        std::erase_if(planes.planes, [&](const auto& l) { return l.name == name; });
+        const bc::FaceGeometry f = bc::face_geometry(m, m.face(name));
+        const Vec3 origin = f.centroid - (0.5 * thickness + 3e-3) * f.normal;
+        const bool inflow = std::any_of(
+            c.boundary_conditions.begin(), c.boundary_conditions.end(),
+            [&](const bc::BoundaryCondition& b) { return b.face == name && b.inflow(); });
+        planes.planes.push_back({name, origin, (inflow ? -1.0 : 1.0) * f.normal, "aorta", origin});
+      }
+  }
+  const fs::path out = output_;
+  std::vector<std::string> written;
+  std::vector<ImageGrid> grids;
+  for (const geometry::Landmark& l : planes.planes) {
+    if (!at_.empty() && std::find(at_.begin(), at_.end(), l.name) == at_.end())
+      continue;
+    // A station's TL and FL planes are one plane: one scan, in station<k>/.
+    const int station = analysis::station_of(l);
+    const std::string folder = station > 0 ? fmt::format("station{}", station) : l.name;
+    if (std::find(written.begin(), written.end(), folder) != written.end())
+      continue;
+    // --rotate tilts the slice about its first in-plane axis: an oblique cut of the vessel.
+    const Mat3 turn = rotation(slice_axes(l.normal)[0], rotate_);
+    const Vec3 normal = l.normal[0] * turn[0] + l.normal[1] * turn[1] + l.normal[2] * turn[2];
+    const int n = static_cast<int>(std::ceil(fov / pixel));
+    grids.push_back(
+        centred_grid(l.origin, slice_axes(normal), {n, n, 1}, {pixel, pixel, thickness}));
+    written.push_back(folder);
+  }
+  RunScan scan;
+  scan.run_dir = run_dir_;
+  scan.frames = frames_;
+  scan.encoding = encoding_of(scan_type_);
+  scan.effects.venc = quantity(venc_, "--venc", true);
+  scan.effects.snr = snr_;
+  scan.effects.seed = seed_;
+  std::vector<Flow4D> scans = mri::synthesize_run(scan, grids);
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    inject_background(scans[i], quantity(background_, "--background", true));
+    write_scan(scans[i], out / written[i]);
+  }
+  for (const std::string& name : at_)
+    if (std::none_of(planes.planes.begin(), planes.planes.end(),
+                     [&](const geometry::Landmark& l) { return l.name == name; }))
+      input_error("mri synthesize --at: no landmark plane '{}' in '{}'{}", name,
+                  landmarks_file.string(),
+                  case_file_.empty() ? " (give --case to name a mesh face)"
+                                     : ", nor a face of the case's mesh");
+  // The planes scanned, for the seeds and directions of `mri inflow --landmarks`.
+  geometry::write_landmarks(planes, GeometryFiles{out}.landmarks());
+  fmt::print("mri synthesize '{}': {} scans ({}, {} mm pixels, {} mm slices, {} frames, SNR {}) "
+             "in {:.2f} s: {} in '{}'\n",
+             run_dir_, written.size(), encoding_name(encoding_of(scan_type_)), pixel * 1e3,
+             thickness * 1e3, frames_, snr_, seconds_since(t0), fmt::join(written, ", "),
+             out.string());
+  return 0;
+}
+
 int MriCommand::synthesize_from_run() const {
+  if (scan_type_ != "4d")
+    return synthesize_slices_of_run();
   const auto t0 = std::chrono::steady_clock::now();
   RunScan scan;
   scan.run_dir = run_dir_;
@@ -208,6 +321,16 @@ int MriCommand::synthesize() const {
   }
   if (!(voxel > 0) || !(radius > 0) || !(scan.venc > 0))
     input_error("mri synthesize: --voxel, --radius and --venc must be positive");
+  scan.encoding = encoding_of(scan_type_);
+  Vec3 spacing{voxel, voxel, voxel};
+  if (scan.encoding != Encoding::velocity_3d) { // one slice through the pipe's centre
+    if (!size_.empty() && size[2] != 1)
+      input_error("--size '{}': a 2D scan has one slice (NX,NY,1)", size_);
+    size[2] = 1;
+    spacing[2] = quantity(thickness_, "--thickness", false);
+  }
+  if (!at_.empty())
+    input_error("mri synthesize --at: landmark planes are a run's (give RUN_DIR)");
   // The scan is held in memory (4 float images over the voxels and frames) before it is
   // written: refused before allocating when that exceeds half of this machine's memory.
   const double bytes = 4.0 * sizeof(float) * size[0] * size[1] * size[2] * std::max(frames_, 1);
@@ -219,8 +342,7 @@ int MriCommand::synthesize() const {
                 size[0], size[1], size[2], frames_, bytes / 1e9, machine / 1e9);
   if (bytes > 1e9)
     fmt::print("mri synthesize: about {:.1f} GB of images in memory\n", bytes / 1e9);
-  scan.grid =
-      centred_grid(scan.axis_point, rotation({1, 1, 0}, rotate_), size, {voxel, voxel, voxel});
+  scan.grid = centred_grid(scan.axis_point, rotation({1, 1, 0}, rotate_), size, spacing);
   Flow4D data = synthesize_pipe(scan);
   inject_background(data, quantity(background_, "--background", true));
   const double t_synth = seconds_since(t0);
@@ -259,36 +381,15 @@ int MriCommand::synthesize() const {
 }
 
 Flow4D MriCommand::load_corrected(const std::string& input, nlohmann::json& report) const {
-  auto t0 = std::chrono::steady_clock::now();
-  ReadOptions ro;
+  CorrectionChoice choice;
   if (!venc_override_.empty())
-    ro.venc = quantity(venc_override_, "--venc", true);
-  Flow4D data = read_flow_data(input, ro);
-  report["read_s"] = seconds_since(t0);
-  report["grid"] = {
-      {"size", data.grid.size},
-      {"spacing_mm",
-       {data.grid.spacing[0] * 1e3, data.grid.spacing[1] * 1e3, data.grid.spacing[2] * 1e3}},
-      {"frames", data.frames.size()},
-      {"venc_m_per_s", data.venc}};
-  t0 = std::chrono::steady_clock::now();
-  if (no_unwrap_) {
-    report["unwrap"] = "off";
-  } else if (!(data.venc > 0)) {
-    report["unwrap"] = "skipped: the data has no venc (give --venc)";
-  } else {
-    report["unwrap"] = unwrap_temporal(data).to_json();
-  }
-  report["unwrap_s"] = seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  if (no_background_) {
-    report["background"] = "off";
-  } else {
-    BackgroundOptions bo;
-    bo.order = background_order_;
-    report["background"] = correct_background(data, bo).to_json();
-  }
-  report["background_s"] = seconds_since(t0);
+    choice.venc = quantity(venc_override_, "--venc", true);
+  choice.unwrap = !no_unwrap_;
+  choice.background = !no_background_;
+  choice.background_order = background_order_;
+  Flow4D data = read_corrected(input, choice, report);
+  data.require(Encoding::velocity_3d,
+               fmt::format("'{}' (2D scans: `mri inflow` and `mri cine`)", input));
   return data;
 }
 

@@ -1,7 +1,10 @@
 #pragma once
-// `tearflow mri synthesize | flow | compare` (docs/mri.md): the command-line edge of src/mri.
+// `tearflow mri synthesize | flow | compare | inflow | cine` (docs/mri.md): the command-line
+// edge of src/mri.
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -9,10 +12,12 @@
 namespace tearflow::mri {
 
 struct Flow4D;
+class Scan2dCommands;
 
 class MriCommand {
 public:
   explicit MriCommand(CLI::App& app); ///< registers `mri` and its subcommands on app
+  ~MriCommand();
   bool selected() const { return command_->parsed(); }
   /// Runs the chosen subcommand; returns the exit code. InputError for bad input.
   int run() const;
@@ -20,6 +25,7 @@ public:
 private:
   int synthesize() const;
   int synthesize_from_run() const;
+  int synthesize_slices_of_run() const; ///< 2D scans at the run's landmark planes
   void write_scan(const Flow4D& data, const std::filesystem::path& dir) const;
   int flow() const;
   int compare() const;
@@ -31,6 +37,8 @@ private:
   std::string run_dir_;
   std::string voxel_ = "1.5mm", venc_ = "1m/s", radius_ = "10mm", tissue_ = "", format_ = "dicom";
   std::string size_, background_ = "0m/s";
+  std::string scan_type_ = "4d", thickness_ = "6mm", fov_ = "80mm", case_file_;
+  std::vector<std::string> at_;
   int frames_ = 20;
   double snr_ = 0.0, rotate_ = 0.0;
   unsigned seed_ = 1;
@@ -41,6 +49,7 @@ private:
   double lumen_fraction_ = 0.6;
   // compare
   std::string simulation_, measured_, scan_;
+  std::unique_ptr<Scan2dCommands> scans_; ///< `mri inflow`, `mri cine`
 };
 
 } // namespace tearflow::mri

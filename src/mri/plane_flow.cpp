@@ -10,6 +10,7 @@
 #include "analysis/landmark_sections.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
+#include "mri/pixel_regions.hpp"
 
 namespace tearflow::mri {
 
@@ -64,46 +65,6 @@ long pixel_of(const Reformat& r, const geometry::Landmark& lm, const Vec3& p) {
   return static_cast<long>(b) * r.side + a;
 }
 
-/// 4-connected region of `mask` holding `seed`.
-std::vector<char> region_of(const std::vector<char>& mask, int side, long seed) {
-  std::vector<char> region(mask.size(), 0);
-  std::vector<long> stack{seed};
-  region[seed] = 1;
-  while (!stack.empty()) {
-    const long p = stack.back();
-    stack.pop_back();
-    const int a = static_cast<int>(p % side), b = static_cast<int>(p / side);
-    const long next[4] = {a > 0 ? p - 1 : -1, a + 1 < side ? p + 1 : -1, b > 0 ? p - side : -1,
-                          b + 1 < side ? p + side : -1};
-    for (long q : next)
-      if (q >= 0 && mask[q] && !region[q]) {
-        region[q] = 1;
-        stack.push_back(q);
-      }
-  }
-  return region;
-}
-
-/// `region` grown by `steps` pixels (8-connected: a square neighbourhood per step).
-std::vector<char> grown(std::vector<char> region, int side, int steps) {
-  for (int s = 0; s < steps; ++s) {
-    std::vector<char> next = region;
-    for (int b = 0; b < side; ++b)
-      for (int a = 0; a < side; ++a) {
-        if (!region[static_cast<std::size_t>(b) * side + a])
-          continue;
-        for (int db = -1; db <= 1; ++db)
-          for (int da = -1; da <= 1; ++da) {
-            const int x = a + da, y = b + db;
-            if (x >= 0 && y >= 0 && x < side && y < side)
-              next[static_cast<std::size_t>(y) * side + x] = 1;
-          }
-      }
-    region.swap(next);
-  }
-  return region;
-}
-
 } // namespace
 
 std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Landmarks& landmarks,
@@ -112,24 +73,26 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
   std::vector<PlaneSeries> out;
   // Frame 0's lumen region and lumen point per landmark, to check that a station's TL and FL
   // planes picked two different regions.
-  std::vector<std::vector<char>> first_region;
+  std::vector<Pixels> first_region;
   std::vector<long> seeds;
   for (const geometry::Landmark& lm : landmarks.planes) {
     const Reformat r = make_reformat(g, lm, o);
     const Vec3 n = unit(lm.normal);
     const double dA = r.pixel * r.pixel;
-    const double margin = o.flow_margin >= 0
-                              ? o.flow_margin
-                              : 0.5 * std::max({g.spacing[0], g.spacing[1], g.spacing[2]});
+    double voxel = 0.0; // the largest spacing along an axis with more than one voxel
+    for (int a = 0; a < 3; ++a)
+      if (g.size[a] > 1)
+        voxel = std::max(voxel, g.spacing[a]);
+    const double margin = o.flow_margin >= 0 ? o.flow_margin : 0.5 * voxel;
     const int grow = static_cast<int>(std::lround(margin / r.pixel));
-    const long seed = pixel_of(r, lm, lm.point.value_or(lm.origin));
+    long seed = pixel_of(r, lm, lm.point.value_or(lm.origin));
     if (seed < 0 || !r.inside[seed])
       input_error("landmark '{}': its lumen point lies outside the image", lm.name);
     PlaneSeries s;
     s.name = lm.name;
     const std::size_t npx = r.weights.size();
     std::vector<double> mag(npx), vn(npx);
-    std::vector<char> mask(npx);
+    Pixels mask(npx);
     for (std::size_t f = 0; f < data.frames.size(); ++f) {
       const Frame& fr = data.frames[f];
       for (std::size_t p = 0; p < npx; ++p) {
@@ -161,12 +124,14 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
       for (std::size_t p = 0; p < npx; ++p)
         mask[p] = r.inside[p] && mag[p] >= threshold;
       mask[seed] = 1; // the point is in its lumen by definition
-      const std::vector<char> lumen = region_of(mask, r.side, seed);
+      const Pixels lumen = region_of(mask, {r.side, r.side}, static_cast<std::size_t>(seed));
       if (f == 0) {
         first_region.push_back(lumen);
         seeds.push_back(seed);
       }
-      const std::vector<char> flow_region = grown(lumen, r.side, grow);
+      const Pixels flow_region = grown(lumen, {r.side, r.side}, grow);
+      if (o.track)
+        seed = static_cast<long>(deepest_pixel(lumen, {r.side, r.side}));
       // A NaN in the section would make the flow NaN or, through the magnitude mask, cut a
       // hole in the lumen: either changes the result, so it is refused, with where.
       std::size_t not_numbers = 0;

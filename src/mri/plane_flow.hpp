@@ -11,9 +11,10 @@
 //        A = sum_lumen dA,   Q = sum_{lumen + margin} (v . n) dA,   v_peak = max_lumen v . n,
 //      the flow over the lumen grown by `flow_margin` (default half a voxel): no-slip makes
 //      u vanish at the wall, but the voxels astride it hold partial-volume velocity that
-//      belongs to the lumen's flow. Measured on the analytic pipe (tests/test_mri.cpp): no
-//      margin loses 2-3 % of the flow, half a voxel 0.1-0.2 %, one voxel 0.04 % but adds
-//      the noise of a ring of tissue (SNR 20, 6 mm pipe: worst frame 4.5 % -> 6-7 %).
+//      belongs to the lumen's flow (the voxel: in-plane pixel of a one-slice 2D scan). Measured on
+//      the analytic pipe (tests/test_mri.cpp): no margin loses 2-3 % of the flow, half a voxel
+//      0.1-0.2 %, one voxel 0.04 % but adds the noise of a ring of tissue (SNR 20, 6 mm pipe: worst
+//      frame 4.5 % -> 6-7 %).
 // The pixel sums are the midpoint rule on the interpolated field; with pixels of half a voxel
 // their error is far below that of the partial-volume images themselves.
 #include <filesystem>
@@ -30,6 +31,9 @@ struct PlaneOptions {
   double half_width = 0.04;    ///< half the reformatted square's side [m]
   double lumen_fraction = 0.6; ///< lumen: magnitude >= this x the lumen point's
   double flow_margin = -1.0;   ///< flow region = lumen grown by this [m]; < 0: half a voxel
+  /// Follow a moving vessel: each frame's lumen point is the previous frame's lumen pixel
+  /// farthest from its edge (a 2D scan through the aortic root moves by ~1 cm over the cycle)
+  bool track = false;
 };
 
 /// One landmark's values per frame, SI.

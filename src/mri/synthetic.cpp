@@ -44,17 +44,41 @@ double sinc(double x) {
 
 } // namespace
 
+void encode(Flow4D& data, Encoding e) {
+  data.encoding = e;
+  if (e == Encoding::velocity_3d)
+    return;
+  const Vec3& n = data.grid.direction[2];
+  for (Frame& fr : data.frames)
+    for (std::size_t v = 0; v < fr.magnitude.size(); ++v) {
+      const double vn =
+          e == Encoding::magnitude
+              ? 0.0
+              : fr.velocity[0][v] * n[0] + fr.velocity[1][v] * n[1] + fr.velocity[2][v] * n[2];
+      for (int c = 0; c < 3; ++c)
+        fr.velocity[c][v] = static_cast<float>(vn * n[c]);
+    }
+  data.check("encode");
+}
+
 void add_scanner_effects(Flow4D& data, const ScannerEffects& e) {
   std::mt19937_64 rng(e.seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   const double s = e.snr > 0 ? e.lumen_signal / e.snr : 0.0;
   const std::size_t n = data.grid.count();
+  // The measured velocities: the three components, or v . n of a through-plane scan.
+  const bool through = data.encoding == Encoding::through_plane;
+  const int measured = data.encoding == Encoding::velocity_3d ? 3 : (through ? 1 : 0);
+  const Vec3& slice_normal = data.grid.direction[2];
   for (Frame& fr : data.frames) {
     for (std::size_t v = 0; v < n; ++v) {
       const double m = fr.magnitude[v];
-      for (int c = 0; c < 3; ++c) {
-        double vel = fr.velocity[c][v];
+      for (int c = 0; c < measured; ++c) {
+        double vel = through ? fr.velocity[0][v] * slice_normal[0] +
+                                   fr.velocity[1][v] * slice_normal[1] +
+                                   fr.velocity[2][v] * slice_normal[2]
+                             : fr.velocity[c][v];
         if (s > 0) {
           // Phase noise from the magnitude's SNR; where the signal is lost in the noise
           // (below 2 s) the phase is uniform over the whole range.
@@ -65,7 +89,11 @@ void add_scanner_effects(Flow4D& data, const ScannerEffects& e) {
         }
         if (e.wrap)
           vel = wrap_velocity(vel, e.venc);
-        fr.velocity[c][v] = static_cast<float>(vel);
+        if (through)
+          for (int d = 0; d < 3; ++d)
+            fr.velocity[d][v] = static_cast<float>(vel * slice_normal[d]);
+        else
+          fr.velocity[c][v] = static_cast<float>(vel);
       }
       if (s > 0)
         fr.magnitude[v] = static_cast<float>(std::abs(m + s * normal(rng)));
@@ -179,6 +207,8 @@ Flow4D synthesize_pipe(const PipeScan& scan) {
         fr.velocity[c][lumen_voxels[l]] = static_cast<float>(speed[l] * axis[c]);
     out.frames.push_back(std::move(fr));
   }
+  out.period = period;
+  encode(out, scan.encoding);
   add_scanner_effects(out, {scan.venc, scan.snr, scan.wrap, scan.lumen_signal, scan.seed});
   return out;
 }

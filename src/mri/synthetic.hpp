@@ -33,6 +33,8 @@ struct PipeScan {
   int time_samples = 4;       ///< sub-samples per frame window
   double lumen_signal = 1.0, tissue_signal = 0.2;
   std::uint64_t seed = 1; ///< noise generator seed
+  /// 4D flow, or a 2D scan (then the grid has one slice; encode() below)
+  Encoding encoding = Encoding::velocity_3d;
 };
 
 /// The demonstration flow of `tearflow mri synthesize` and the tests: blood (1060 kg/m^3,
@@ -45,8 +47,15 @@ bc::WomersleyFlow pulsatile_pipe_flow(double radius, double mean_velocity = 0.35
 /// The scan; InputError for a non-pulsatile flow, no frames, venc <= 0 or an empty grid.
 Flow4D synthesize_pipe(const PipeScan& scan);
 
+/// Keeps, of clean data, what a scan of encoding `e` measures: 2D phase contrast the velocity's
+/// component along the slice normal (stored as v_n n), cine none (zero velocity). Before the
+/// noise, so that a through-plane scan's phase noise is that of one encoding.
+void encode(Flow4D& data, Encoding e);
+
 /// The scanner's noise and wrapping (above), applied in place to clean data: each frame's
-/// magnitude is its noise-free signal, lumen_signal the blood's (SNR is defined there).
+/// magnitude is its noise-free signal, lumen_signal the blood's (SNR is defined there). Phase
+/// noise and wrapping act on each measured velocity: the three components of 4D flow, v . n of
+/// a through-plane scan, none of cine.
 struct ScannerEffects {
   double venc = 1.0, snr = 0.0;
   bool wrap = true;

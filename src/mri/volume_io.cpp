@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include <fmt/format.h>
 #include <itkImage.h>
 #include <itkImageFileReader.h>
 #include <itkImageFileWriter.h>
@@ -126,6 +127,9 @@ void check_complete(const fs::path& file, const std::string& ext, std::uint64_t 
 
 void write_volumes(const Flow4D& data, const fs::path& dir, const std::string& ext) {
   data.check("write_volumes");
+  data.require(Encoding::velocity_3d, fmt::format("write_volumes '{}' (2D scans are written as "
+                                                  "DICOM)",
+                                                  dir.string()));
   fs::create_directories(dir);
   const ImageGrid& g = data.grid;
   const std::size_t n = g.count();
