@@ -226,6 +226,42 @@ TEST(MriCommand, BadInputOfInflow) {
   mri::write_dicom(mri::synthesize_pipe(test_pipe_scan()), dir / "4d");
   expect("mri inflow " + pipe + " --inlet " + (dir / "4d").string() + " -o " + out,
          "2D phase contrast");
+  // Numbers only partly numbers, a face scanned twice, a seed off the slice.
+  expect("mri inflow " + pipe + " --pressure 126.5.1/60/86 --outlet outlet=" + pc + " -o " + out,
+         "SYSTOLIC/DIASTOLIC/MEAN");
+  expect("mri inflow " + pipe + " --pressure e/60/86 --outlet outlet=" + pc + " -o " + out,
+         "SYSTOLIC/DIASTOLIC/MEAN");
+  expect("mri inflow " + pipe + " --pressure 120/70/90 --outlet outlet=" + pc +
+             " --outlet outlet=" + pc + " -o " + out,
+         "two scans for the outlet");
+  expect("mri inflow " + pipe + " --inlet " + pc + "@10,-20,500 -o " + out, "off the slice");
+  expect("mri synthesize -o " + out + " --scan-type pc --format nifti", "written as DICOM");
+  // A seed in tissue that fills the field of view: the lumen region floods to the edge.
+  scan.tissue_radius = 1.0;
+  mri::write_dicom(mri::synthesize_pipe(scan), dir / "tissue");
+  expect("mri inflow " + pipe + " --inlet " + (dir / "tissue").string() + "@17.5,-20,50 -o " + out,
+         "reaches the edge");
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "case.yaml")); // nothing written
+}
+
+TEST(Mri2d, AliasedObliquePhaseContrastIsUnwrapped) {
+  // venc 0.55 m/s below the pipe's systolic centreline velocity (~0.65 m/s), the slice tilted
+  // 25 degrees: systole aliases; the through-plane value is unwrapped as one number (its
+  // stored components by 2 venc n_c would be wrong). Noise-free: the bound of the unaliased
+  // scan, 2 % per frame.
+  mri::PipeScan scan = pc_slice(25.0);
+  scan.venc = 0.55;
+  const auto dir = fresh_dir("mri2d-alias");
+  mri::write_dicom(mri::synthesize_pipe(scan), dir);
+  nlohmann::json report, plain;
+  const mri::Flow4D unwrapped = mri::read_corrected(dir, {}, report);
+  const mri::Flow4D aliased = mri::read_corrected(dir, {0.0, false, true}, plain);
+  EXPECT_GT(report["unwrap"]["values_unwrapped"].get<std::size_t>(), 0u);
+  EXPECT_GT(worst_error(scan, mri::measure_vessel(aliased, "AAo", {})), 0.1);
+  const double worst = worst_error(scan, mri::measure_vessel(unwrapped, "AAo", {}));
+  std::printf("unwrapped %zu values; worst frame %.3f %%\n",
+              report["unwrap"]["values_unwrapped"].get<std::size_t>(), 100 * worst);
+  EXPECT_LT(worst, 0.02);
 }
 
 TEST(Mri2d, CineTracksBothLuminaOfAMovingWall) {
@@ -250,7 +286,7 @@ TEST(Mri2d, CineTracksBothLuminaOfAMovingWall) {
   geometry::write_landmarks(landmarks, dir / "geometry" / "landmarks.json");
   // The scans through the command, as a user makes them.
   const Result synth = run_tearflow("mri synthesize " + dir.string() + " --scan-type cine " +
-                                    "--voxel 1mm --thickness 5mm --fov 48mm --frames 30 " +
+                                    "--voxel 1mm --thickness 5mm --fov 60mm --frames 30 " +
                                     "--snr 20 -o " + (dir / "cine").string());
   ASSERT_EQ(synth.code, 0) << synth.output;
   const Result cine = run_tearflow("mri cine --at 1=" + (dir / "cine/station1").string() +
@@ -302,6 +338,13 @@ TEST(Mri2d, CineTracksBothLuminaOfAMovingWall) {
   const std::string text((std::istreambuf_iterator<char>(html)), {});
   EXPECT_NE(text.find("\"measured\""), std::string::npos); // the measured folder's series
   EXPECT_NE(text.find("area_over_A_0"), std::string::npos);
+  // One station measured twice (by number and by name) is refused.
+  const Result twice =
+      run_tearflow("mri cine --at 1=" + (dir / "cine/station1").string() +
+                   " --at TL1=" + (dir / "cine/station1").string() + " --landmarks " +
+                   (dir / "geometry/landmarks.json").string() + " -o " + (dir / "twice").string());
+  EXPECT_EQ(twice.code, 2) << twice.output;
+  EXPECT_NE(twice.output.find("measured twice"), std::string::npos) << twice.output;
 }
 
 TEST(Mri2d, CineSplitsLuminaJoinedAcrossAThinFlap) {
@@ -337,7 +380,7 @@ TEST(Mri2d, CineSplitsLuminaJoinedAcrossAThinFlap) {
   // Bad input: a point off the slice, both points on one pixel, a phase-contrast scan.
   expect_input_error(
       [&] {
-        mri::track_lumina(cine, "1", {0.5, 0, 0}, std::nullopt);
+        mri::track_lumina(cine, "1", {0.5, 0, 5e-3}, std::nullopt);
       },
       "outside the cine slice");
   expect_input_error(
@@ -345,6 +388,16 @@ TEST(Mri2d, CineSplitsLuminaJoinedAcrossAThinFlap) {
         mri::track_lumina(cine, "1", {-6.2e-3, 0, 5e-3}, Vec3{-6.2e-3, 1e-4, 5e-3});
       },
       "one pixel");
+  expect_input_error(
+      [&] {
+        mri::track_lumina(cine, "1", {-6.2e-3, 0, 15e-3}, std::nullopt);
+      },
+      "off the slice"); // 10 mm off a 5 mm slice: another plane's point
+  // One frame without an R-R interval has no cycle.
+  mri::Flow4D one = cine;
+  one.frames.resize(1);
+  one.period = 0.0;
+  expect_input_error([&] { one.cycle("cine"); }, "one frame");
 }
 
 TEST(MriDicom, BadInputOf2dScans) {

@@ -46,11 +46,14 @@ double quantity(std::string_view text, std::string_view where, Dimension dimensi
     input_error("{} '{}': a number with a unit is expected (e.g. {})", where, text,
                 velocity ? "1.5m/s" : "1.5mm");
   double value = 0;
+  std::size_t used = 0;
   try {
-    value = std::stod(m[1]);
+    value = std::stod(m[1], &used);
   } catch (...) {
     input_error("{} '{}': not a number", where, text);
   }
+  if (used != static_cast<std::size_t>(m[1].length())) // "1.2.3mm" is not 1.2 mm
+    input_error("{} '{}': not a number", where, text);
   std::string unit = m[2];
   if (velocity) {
     if (unit.size() < 2 || unit.substr(unit.size() - 2) != "/s")

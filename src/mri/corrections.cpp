@@ -239,6 +239,37 @@ UnwrapReport unwrap_temporal(Flow4D& data, double noise_multiple) {
   const double period = 2.0 * data.venc;
   UnwrapReport report;
   const std::size_t n = data.grid.count();
+  if (data.encoding == Encoding::through_plane) {
+    // One measured value, v . n (stored as v_n n): a wrap moves it by 2 venc, each stored
+    // component by 2 venc n_c only, so the scalar is unwrapped and written back.
+    const Vec3& normal = data.grid.direction[2];
+    for (std::size_t v = 0; v < n; ++v) {
+      if (!with_signal[v])
+        continue;
+      auto along = [&](const Frame& f) {
+        return f.velocity[0][v] * normal[0] + f.velocity[1][v] * normal[1] +
+               f.velocity[2][v] * normal[2];
+      };
+      bool moved = false;
+      double previous = along(data.frames[0]);
+      for (std::size_t f = 1; f < data.frames.size(); ++f) {
+        double x = along(data.frames[f]);
+        const double jumps = std::round((previous - x) / period);
+        if (jumps != 0.0) {
+          x += jumps * period;
+          for (int c = 0; c < 3; ++c)
+            data.frames[f].velocity[c][v] = static_cast<float>(x * normal[c]);
+          ++report.values_unwrapped;
+          moved = true;
+        }
+        previous = x;
+      }
+      report.voxels += moved;
+    }
+    return report;
+  }
+  if (data.encoding != Encoding::velocity_3d)
+    return report; // cine: no phase
   for (std::size_t v = 0; v < n; ++v) {
     if (!with_signal[v])
       continue;

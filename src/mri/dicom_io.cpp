@@ -369,8 +369,11 @@ Flow4D read_dicom(const fs::path& dir, const ReadOptions& options) {
   if (!roles[4].empty()) {
     for (int r = 1; r < 4; ++r)
       if (!roles[r].empty())
-        input_error("'{}': both a through-plane phase series (2D phase contrast) and a {} series "
-                    "(4D flow); one scan per folder is expected",
+        input_error("'{}': a through-plane phase series (its SequenceName or SeriesDescription "
+                    "ends in 'in' or 'through') beside a {} series. A 2D phase-contrast folder "
+                    "holds the magnitude and the through-plane phase alone; 4D flow is read as "
+                    "rl, ap and fh components (a 4D series encoding the slab's normal as 'in' "
+                    "is not mapped to one of them): one scan per folder",
                     dir.string(), role_names[r]);
     out.encoding = Encoding::through_plane;
     present.push_back(4);

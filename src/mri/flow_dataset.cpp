@@ -89,6 +89,32 @@ void Flow4D::require(Encoding e, const std::string& where) const {
                 encoding_name(encoding));
 }
 
+double Flow4D::cycle(const std::string& where) const {
+  const std::size_t nf = frames.size();
+  if (nf == 0)
+    input_error("{}: no frames", where);
+  const double span = frames.back().time - frames.front().time;
+  if (period > 0) {
+    if (!(span < period))
+      input_error("{}: its frames span {:.1f} ms, not less than the R-R interval {:.1f} ms", where,
+                  span * 1e3, period * 1e3);
+    return period;
+  }
+  if (nf < 2)
+    input_error("{}: one frame and no R-R interval (NominalInterval); a cycle cannot be formed",
+                where);
+  return span * nf / (nf - 1);
+}
+
+void Flow4D::check_in_slice(const Vec3& p, const std::string& what) const {
+  const double off = dot(p - grid.origin, grid.direction[2]);
+  const double reach = std::max(grid.spacing[2], 5e-3);
+  if (std::abs(off) > reach)
+    input_error("{} ({:.1f}, {:.1f}, {:.1f}) mm lies {:.1f} mm off the slice (at most {:.1f} mm: "
+                "the slice's thickness or 5 mm); is it this slice's point?",
+                what, p[0] * 1e3, p[1] * 1e3, p[2] * 1e3, off * 1e3, reach * 1e3);
+}
+
 void Flow4D::check(const std::string& where) const {
   const std::size_t n = grid.count();
   if (n == 0)

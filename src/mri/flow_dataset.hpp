@@ -77,6 +77,13 @@ struct Flow4D {
   void check(const std::string& where) const;
   /// InputError naming `where` and what it needs when the data is not `e`.
   void require(Encoding e, const std::string& where) const;
+  /// The cardiac cycle the frames span [s]: `period` (the R-R interval) when known, else the
+  /// frames times their spacing (retrospective gating spreads them over the whole interval).
+  /// InputError naming `where` for one frame without a period, or frames spanning it.
+  double cycle(const std::string& where) const;
+  /// InputError naming `what` when `p` lies farther than max(slice thickness, 5 mm) off a 2D
+  /// scan's slice (a point of another plane would be projected onto it silently).
+  void check_in_slice(const Vec3& p, const std::string& what) const;
 };
 
 /// The eight voxels and weights of trilinear interpolation at a continuous index, found

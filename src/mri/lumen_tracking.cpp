@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <itkImage.h>
 #include <itkMorphologicalWatershedFromMarkersImageFilter.h>
 
@@ -141,6 +142,7 @@ LuminaSeries track_lumina(const Flow4D& cine, const std::string& station, const 
   const ImageGrid& g = cine.grid;
   const PixelGrid s{g.size[0], g.size[1]};
   auto pixel_of = [&](const Vec3& p, const char* lumen) {
+    cine.check_in_slice(p, fmt::format("station {}: the {} point", station, lumen));
     const Vec3 index = g.index(p);
     const long i = std::lround(index[0]), j = std::lround(index[1]);
     if (i < 0 || j < 0 || i >= s.nx || j >= s.ny)
@@ -174,6 +176,12 @@ LuminaSeries track_lumina(const Flow4D& cine, const std::string& station, const 
     tl_mask[tl] = fl_mask[fl] = 1; // a marker is in its lumen by definition
     Pixels tl_region = region_of(tl_mask, s, tl);
     Pixels fl_region = two ? region_of(fl_mask, s, fl) : Pixels(s.count(), 0);
+    for (const Pixels* r : {&tl_region, &fl_region})
+      if (border_share(*r, s) > kFloodedBorderShare)
+        input_error("station {}, frame {}: the {}'s region reaches the edge of the slice: "
+                    "its point is not in a lumen (a point in tissue floods it; a thrombosed, "
+                    "dark lumen is not tracked) or the field of view cuts it",
+                    station, f, r == &tl_region ? (two ? "true lumen" : "lumen") : "false lumen");
     if (two && (overlap(tl_region, fl_region) > 0 || tl_region[fl] || fl_region[tl])) {
       Pixels mask = mask_of(std::min(level_tl, level_fl));
       mask[tl] = mask[fl] = 1;

@@ -43,7 +43,8 @@ std::vector<OutletSplit> outlet_splits(const std::vector<std::string>& tunable,
     mean[i] = it->mean_flow();
     if (!(mean[i] > 0))
       input_error("{}: the scan for '{}' gives a mean flow of {:.2f} mL/s along its vessel, not "
-                  "positive (seed: {}); check its seed and landmark direction",
+                  "positive (seed: {}); check its seed and the landmark's direction (or the "
+                  "scanner's phase sign: give the seed as FOLDER@X,Y,Z instead)",
                   where, it->name, mean[i] / units::mL, it->seed_from);
     measured += mean[i];
   }
@@ -84,6 +85,26 @@ nlohmann::json write_measured_case(const MeasuredFlows& flows, const fs::path& d
   if (flows.inlet && inflow_faces.size() != 1)
     input_error("{}: {} inflow faces; the measured inflow goes to the case's one inflow face",
                 where, inflow_faces.size());
+  // Everything checked before a file is written (no case beside stale targets).
+  for (std::size_t i = 0; i < flows.outlets.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (flows.outlets[i].name == flows.outlets[j].name)
+        input_error("{}: two scans for the outlet '{}'; one per outlet", where,
+                    flows.outlets[i].name);
+  if (flows.inlet && !(flows.inlet->mean_flow() > 0))
+    input_error("{}: the inflow scan's mean flow along its vessel is {:.2f} mL/s, not positive "
+                "(seed: {}); a landmark's normal must point downstream (or the scanner's phase "
+                "sign is the other way: give the seed as FOLDER@X,Y,Z instead)",
+                where, flows.inlet->mean_flow() / units::mL, flows.inlet->seed_from);
+  std::vector<OutletSplit> splits;
+  if (!flows.outlets.empty()) {
+    if (!flows.pressure)
+      input_error("{}: outlet scans give the flow splits; the targets file needs the inlet's "
+                  "measured pressures too (--pressure SYS/DIA/MEAN, e.g. 126/60/86mmHg: cuff "
+                  "or catheter; 2D scans do not measure pressure)",
+                  where);
+    splits = outlet_splits(tunable, flows.inlet, flows.outlets, where);
+  }
   fs::create_directories(dir);
   nlohmann::json summary;
 
@@ -92,10 +113,6 @@ nlohmann::json write_measured_case(const MeasuredFlows& flows, const fs::path& d
   std::string header = "# Written by `tearflow mri inflow` from 2D phase-contrast scans";
   if (flows.inlet) {
     const VesselFlow& in = *flows.inlet;
-    if (!(in.mean_flow() > 0))
-      input_error("{}: the inflow scan's mean flow along its vessel is {:.2f} mL/s, not positive "
-                  "(seed: {}); a landmark's normal must point downstream",
-                  where, in.mean_flow() / units::mL, in.seed_from);
     const bc::Waveform w = in.waveform();
     const double step = c.time.step;
     const int samples = std::max(3, static_cast<int>(std::lround(in.period / step)));
@@ -135,15 +152,16 @@ nlohmann::json write_measured_case(const MeasuredFlows& flows, const fs::path& d
   YAML::Emitter emitter;
   emitter << root;
   io::write_file_atomically(dir / "case.yaml", header + "\n" + emitter.c_str() + "\n");
+  // The case as `run` and `tune` will read it (another periodic waveform of the case keeps its
+  // own period, which may now disagree with the measured one).
+  try {
+    io::load_case(dir / "case.yaml");
+  } catch (const InputError& e) {
+    input_error("{}: the case written with the measured inflow, '{}', does not load: {}", where,
+                (dir / "case.yaml").string(), e.what());
+  }
 
   if (!flows.outlets.empty()) {
-    if (!flows.pressure)
-      input_error("{}: outlet scans give the flow splits; the targets file needs the inlet's "
-                  "measured pressures too (--pressure SYS/DIA/MEAN, e.g. 126/60/86mmHg: cuff "
-                  "or catheter; 2D scans do not measure pressure)",
-                  where);
-    const std::vector<OutletSplit> splits =
-        outlet_splits(tunable, flows.inlet, flows.outlets, where);
     const auto& p = *flows.pressure;
     std::string text = "# Targets from 2D phase contrast (`tearflow mri inflow`): outlet splits "
                        "from the cycle-mean flows\n";

@@ -176,6 +176,10 @@ Encoding encoding_of(const std::string& scan_type) {
 
 int MriCommand::synthesize_slices_of_run() const {
   const auto t0 = std::chrono::steady_clock::now();
+  if (format_ != "dicom" && format_ != "dicom-rescaled")
+    input_error("mri synthesize --scan-type {}: 2D scans are written as DICOM (--format dicom "
+                "or dicom-rescaled)",
+                scan_type_);
   const fs::path landmarks_file =
       landmarks_.empty() ? RunFiles{run_dir_}.geometry().landmarks() : fs::path(landmarks_);
   const geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_file);
@@ -206,6 +210,13 @@ int MriCommand::synthesize_slices_of_run() const {
         planes.planes.push_back({name, origin, (inflow ? -1.0 : 1.0) * f.normal, "aorta", origin});
       }
   }
+  for (const std::string& name : at_)
+    if (std::none_of(planes.planes.begin(), planes.planes.end(),
+                     [&](const geometry::Landmark& l) { return l.name == name; }))
+      input_error("mri synthesize --at: no landmark plane '{}' in '{}'{}", name,
+                  landmarks_file.string(),
+                  case_file_.empty() ? " (give --case to name a mesh face)"
+                                     : ", nor a face of the case's mesh");
   const fs::path out = output_;
   std::vector<std::string> written;
   std::vector<ImageGrid> grids;
@@ -237,13 +248,6 @@ int MriCommand::synthesize_slices_of_run() const {
     inject_background(scans[i], quantity(background_, "--background", true));
     write_scan(scans[i], out / written[i]);
   }
-  for (const std::string& name : at_)
-    if (std::none_of(planes.planes.begin(), planes.planes.end(),
-                     [&](const geometry::Landmark& l) { return l.name == name; }))
-      input_error("mri synthesize --at: no landmark plane '{}' in '{}'{}", name,
-                  landmarks_file.string(),
-                  case_file_.empty() ? " (give --case to name a mesh face)"
-                                     : ", nor a face of the case's mesh");
   // The planes scanned, for the seeds and directions of `mri inflow --landmarks`.
   geometry::write_landmarks(planes, GeometryFiles{out}.landmarks());
   fmt::print("mri synthesize '{}': {} scans ({}, {} mm pixels, {} mm slices, {} frames, SNR {}) "
@@ -328,6 +332,13 @@ int MriCommand::synthesize() const {
       input_error("--size '{}': a 2D scan has one slice (NX,NY,1)", size_);
     size[2] = 1;
     spacing[2] = quantity(thickness_, "--thickness", false);
+    if (!(spacing[2] > 0))
+      input_error("mri synthesize --thickness '{}': a positive slice thickness is expected",
+                  thickness_);
+    if (format_ != "dicom" && format_ != "dicom-rescaled")
+      input_error("mri synthesize --scan-type {}: 2D scans are written as DICOM (--format dicom "
+                  "or dicom-rescaled)",
+                  scan_type_);
   }
   if (!at_.empty())
     input_error("mri synthesize --at: landmark planes are a run's (give RUN_DIR)");

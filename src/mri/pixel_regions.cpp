@@ -54,6 +54,23 @@ Pixels grown(Pixels region, const PixelGrid& g, int steps) {
   return region;
 }
 
+double border_share(const Pixels& region, const PixelGrid& g, const Pixels* inside) {
+  std::size_t edge = 0, on_border = 0;
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const std::size_t p = static_cast<std::size_t>(j) * g.nx + i;
+      if (!region[p])
+        continue;
+      const bool border = i == 0 || j == 0 || i + 1 == g.nx || j + 1 == g.ny;
+      if (!border && region[p - 1] && region[p + 1] && region[p - g.nx] && region[p + g.nx])
+        continue; // interior
+      ++edge;
+      on_border += border || (inside && (!(*inside)[p - 1] || !(*inside)[p + 1] ||
+                                         !(*inside)[p - g.nx] || !(*inside)[p + g.nx]));
+    }
+  return edge == 0 ? 0.0 : static_cast<double>(on_border) / static_cast<double>(edge);
+}
+
 std::size_t deepest_pixel(const Pixels& region, const PixelGrid& g) {
   constexpr int kFar = 1 << 28;
   std::vector<int> d(region.size());

@@ -125,6 +125,13 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
         mask[p] = r.inside[p] && mag[p] >= threshold;
       mask[seed] = 1; // the point is in its lumen by definition
       const Pixels lumen = region_of(mask, {r.side, r.side}, static_cast<std::size_t>(seed));
+      if (const double share = border_share(lumen, {r.side, r.side}, &r.inside);
+          share > kFloodedBorderShare)
+        input_error("landmark '{}', frame {} (t = {:.4g} s): its lumen region reaches the edge "
+                    "of the {:.0f} mm square around the plane or of the image along {:.0f} % of "
+                    "its outline: the lumen point is not in a vessel (a seed in tissue floods "
+                    "it), or the image cuts the vessel",
+                    lm.name, f, fr.time, 2 * o.half_width * 1e3, 100 * share);
       if (f == 0) {
         first_region.push_back(lumen);
         seeds.push_back(seed);

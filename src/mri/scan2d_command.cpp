@@ -1,6 +1,7 @@
 // `tearflow mri inflow | cine` (scan2d_command.hpp; docs/mri.md).
 #include "mri/scan2d_command.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <optional>
@@ -50,14 +51,27 @@ std::pair<std::string, std::string> named(const std::string& text, const std::st
 std::array<double, 3> pressures(const std::string& text) {
   static const std::regex re(R"(\s*([0-9.eE+]+)/([0-9.eE+]+)/([0-9.eE+]+)\s*([a-zA-Z/0-9]*)\s*)");
   std::smatch m;
-  if (!std::regex_match(text, m, re))
+  const auto expected = [&] {
     input_error("--pressure '{}': SYSTOLIC/DIASTOLIC/MEAN with a unit is expected, e.g. "
                 "126/60/86mmHg",
                 text);
+  };
+  if (!std::regex_match(text, m, re))
+    expected();
   const double scale =
       units::pressure_scale(m[4].str().empty() ? "mmHg" : m[4].str(), "--pressure");
-  const std::array<double, 3> p{std::stod(m[1]) * scale, std::stod(m[2]) * scale,
-                                std::stod(m[3]) * scale};
+  std::array<double, 3> p{};
+  for (int k = 0; k < 3; ++k) {
+    const std::string field = m[k + 1];
+    std::size_t used = 0;
+    try {
+      p[k] = std::stod(field, &used) * scale;
+    } catch (const std::exception&) {
+      expected();
+    }
+    if (used != field.size())
+      expected(); // "126.5.1" is not a number
+  }
   if (!(p[1] < p[2] && p[2] < p[0]))
     input_error("--pressure '{}': diastolic < mean < systolic is expected", text);
   return p;
@@ -195,12 +209,18 @@ int Scan2dCommands::cine() const {
   double period = 0.0;
   for (const std::string& item : at_) {
     const auto [name, text] = named(item, "--at");
+    const bool numbered = std::all_of(name.begin(), name.end(), ::isdigit);
+    for (const std::string& column :
+         numbered ? std::vector{"TL" + name, "FL" + name} : std::vector{name})
+      if (std::find(columns.begin(), columns.end(), column) != columns.end())
+        input_error("--at {}: '{}' is measured twice; one scan per station or landmark", name,
+                    column);
     const auto [folder, point] = scan_and_seed(text, "--at");
     nlohmann::json& r = report["scans"][name];
     const Flow4D cine = read_corrected(folder, {}, r);
     cine.require(Encoding::magnitude, fmt::format("--at {}: '{}'", name, folder.string()));
     // A station's TL and FL points, or one landmark's.
-    const bool station = std::all_of(name.begin(), name.end(), ::isdigit);
+    const bool station = numbered;
     const auto lumen_point = [&](const std::string& landmark) {
       const geometry::Landmark& l = landmarks.plane(landmark);
       return l.point.value_or(l.origin);
@@ -210,9 +230,7 @@ int Scan2dCommands::cine() const {
     if (station)
       second = lumen_point("FL" + name);
     const LuminaSeries s = track_lumina(cine, name, first, second, options);
-    const double cine_period =
-        cine.period > 0 ? cine.period
-                        : (s.time.back() - s.time.front()) * s.time.size() / (s.time.size() - 1);
+    const double cine_period = cine.cycle(fmt::format("--at {}: '{}'", name, folder.string()));
     if (times.empty()) {
       times = s.time;
       period = cine_period;

@@ -10,7 +10,7 @@
 //     that the fluid's boundary crosses (fluid fraction between 0 and 1, or a neighbour's
 //     differs) are sampled again on a finer in-plane grid: 3 x 3 points per pixel left the
 //     small true lumen of the TBAD demo (61-71 mm^2) 2.6-3.5 % too large at 1 mm pixels, 6 x 6
-//     1.7 % (the edge's fraction is what the area of a cine scan is measured from);
+//     0.6-1.9 % (the edge's fraction is what the area of a cine scan is measured from);
 //   - magnitude: blood 1 in the fluid fraction of the voxel, static tissue 0.2 elsewhere;
 //   - noise and wrapping: add_scanner_effects.
 // Since the time interpolation is linear, the sub-voxel means are taken per saved frame once

@@ -63,6 +63,7 @@ VesselFlow measure_vessel(const Flow4D& scan, const std::string& name, const Ves
   out.name = name;
   std::optional<int> landmark_sign;
   if (seed.point) {
+    scan.check_in_slice(*seed.point, fmt::format("scan '{}': the seed point", name));
     out.seed = *seed.point - dot(*seed.point - g.origin, n) * n;
     out.seed_from = "given";
     const Vec3 index = g.index(out.seed);
@@ -94,19 +95,7 @@ VesselFlow measure_vessel(const Flow4D& scan, const std::string& name, const Ves
   out.sign = landmark_sign.value_or(mean >= 0 ? 1 : -1);
   for (double q : series.flow)
     out.flow.push_back(out.sign * q);
-  // The cycle: the R-R interval, else frames x their spacing.
-  const std::size_t nf = out.time.size();
-  out.period = scan.period;
-  if (!(out.period > 0)) {
-    if (nf < 2)
-      input_error("scan '{}': one frame and no R-R interval (NominalInterval); a cycle cannot "
-                  "be formed",
-                  name);
-    out.period = (out.time.back() - out.time.front()) * nf / (nf - 1);
-  }
-  if (!(out.time.back() - out.time.front() < out.period))
-    input_error("scan '{}': its frames span {:.1f} ms, not less than the R-R interval {:.1f} ms",
-                name, (out.time.back() - out.time.front()) * 1e3, out.period * 1e3);
+  out.period = scan.cycle(fmt::format("scan '{}'", name));
   return out;
 }
 
