@@ -65,13 +65,14 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 } // namespace
 
 MriCommand::MriCommand(CLI::App& app) {
-  command_ = app.add_subcommand("mri", "4D-flow MRI: synthesize, measure flows, compare "
-                                       "(docs/mri.md)");
+  command_ = app.add_subcommand("mri", "MRI (4D flow, 2D phase contrast, cine): synthesize, "
+                                       "measure, compare (docs/mri.md)");
   command_->require_subcommand(1);
 
   synthesize_ = command_->add_subcommand(
-      "synthesize", "a synthetic 4D-flow scan of a run's VTU series, or of the analytic "
-                    "pulsatile (Womersley) pipe when no run is given");
+      "synthesize", "a synthetic 4D-flow, 2D phase-contrast or cine scan (--scan-type) of a "
+                    "run's VTU series, or of the analytic pulsatile (Womersley) pipe when no "
+                    "run is given");
   synthesize_->add_option("run_dir", run_dir_, "output folder of `tearflow run` (flow.pvd)");
   synthesize_->add_option("-o,--output", output_, "output folder")->required();
   synthesize_->add_option("--voxel", voxel_, "isotropic voxel size (default 1.5mm)");
