@@ -246,14 +246,10 @@ UnwrapReport unwrap_temporal(Flow4D& data, double noise_multiple) {
     for (std::size_t v = 0; v < n; ++v) {
       if (!with_signal[v])
         continue;
-      auto along = [&](const Frame& f) {
-        return f.velocity[0][v] * normal[0] + f.velocity[1][v] * normal[1] +
-               f.velocity[2][v] * normal[2];
-      };
       bool moved = false;
-      double previous = along(data.frames[0]);
+      double previous = along(data.frames[0], v, normal);
       for (std::size_t f = 1; f < data.frames.size(); ++f) {
-        double x = along(data.frames[f]);
+        double x = along(data.frames[f], v, normal);
         const double jumps = std::round((previous - x) / period);
         if (jumps != 0.0) {
           x += jumps * period;

@@ -111,8 +111,7 @@ void write_dicom(const Flow4D& data, const fs::path& dir, const DicomWriteOption
           const std::size_t v = offset + p;
           double velocity = 0.0;
           if (series.component == 3)
-            velocity = fr.velocity[0][v] * normal[0] + fr.velocity[1][v] * normal[1] +
-                       fr.velocity[2][v] * normal[2];
+            velocity = along(fr, v, normal);
           else if (phase)
             velocity = fr.velocity[series.component][v];
           double value;

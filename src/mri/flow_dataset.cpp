@@ -108,7 +108,7 @@ double Flow4D::cycle(const std::string& where) const {
 
 void Flow4D::check_in_slice(const Vec3& p, const std::string& what) const {
   const double off = dot(p - grid.origin, grid.direction[2]);
-  const double reach = std::max(grid.spacing[2], 5e-3);
+  const double reach = slice_reach(grid);
   if (std::abs(off) > reach)
     input_error("{} ({:.1f}, {:.1f}, {:.1f}) mm lies {:.1f} mm off the slice (at most {:.1f} mm: "
                 "the slice's thickness or 5 mm); is it this slice's point?",

@@ -65,6 +65,17 @@ enum class Encoding {
 /// "4D flow", "2D phase contrast", "cine": for messages.
 const char* encoding_name(Encoding e);
 
+/// Frame f's velocity at voxel v along the unit vector n (a 2D scan's measured v . n).
+inline double along(const Frame& f, std::size_t v, const Vec3& n) {
+  return f.velocity[0][v] * n[0] + f.velocity[1][v] * n[1] + f.velocity[2][v] * n[2];
+}
+
+/// How far off a 2D scan's slice a point may lie and still be the slice's: its thickness,
+/// at least 5 mm.
+inline double slice_reach(const ImageGrid& g) {
+  return g.spacing[2] > 5e-3 ? g.spacing[2] : 5e-3;
+}
+
 struct Flow4D {
   ImageGrid grid;
   Encoding encoding = Encoding::velocity_3d;

@@ -185,19 +185,14 @@ LuminaSeries track_lumina(const Flow4D& cine, const std::string& station, const 
     if (two && (overlap(tl_region, fl_region) > 0 || tl_region[fl] || fl_region[tl])) {
       Pixels mask = mask_of(std::min(level_tl, level_fl));
       mask[tl] = mask[fl] = 1;
-      Pixels both = region_of(mask, s, tl);
-      const Pixels fl_part = region_of(mask, s, fl); // FL's too, if not connected at this level
-      for (std::size_t p = 0; p < s.count(); ++p)
-        both[p] = both[p] || fl_part[p];
+      // FL's part too, if not connected to the TL's at this level.
+      const Pixels both = united(region_of(mask, s, tl), region_of(mask, s, fl));
       std::tie(tl_region, fl_region) = split(both, m, s, tl, fl);
       ++out.split_frames;
     }
     if (f > 0 && overlap(tl_region, previous_fl) > overlap(tl_region, previous_tl))
       ++out.swaps;
-    Pixels lumina = tl_region;
-    for (std::size_t p = 0; p < s.count(); ++p)
-      lumina[p] = lumina[p] || fl_region[p];
-    const double tissue = tissue_level(lumina, m, s);
+    const double tissue = tissue_level(united(tl_region, fl_region), m, s);
     const Pixels tl_rim = rim_of(tl_region, s), fl_rim = rim_of(fl_region, s);
     out.time.push_back(cine.frames[f].time);
     out.tl_area.push_back(lumen_pixels(tl_region, tl_rim, fl_rim, fl_region, m, s, tissue) *
@@ -208,21 +203,6 @@ LuminaSeries track_lumina(const Flow4D& cine, const std::string& station, const 
     std::vector<unsigned char> labels(s.count(), 0);
     for (std::size_t p = 0; p < s.count(); ++p)
       labels[p] = tl_region[p] ? 1 : (fl_region[p] ? 2 : 0);
-    if (f == 0 && std::getenv("TF_DEBUG_LABELS")) {
-      for (int j = 0; j < s.ny; ++j) {
-        for (int i = 0; i < s.nx; ++i) {
-          const std::size_t p = static_cast<std::size_t>(j) * s.nx + i;
-          const double v = (m[p] - tissue) / (m[tl] - tissue);
-          std::putchar(labels[p] == 1   ? (v > 0.95 ? 'T' : 't')
-                       : labels[p] == 2 ? (v > 0.95 ? 'F' : 'f')
-                                        : (v > 0.5    ? '+'
-                                           : v > 0.25 ? ':'
-                                           : v > 0.02 ? '.'
-                                                      : ' '));
-        }
-        std::putchar('\n');
-      }
-    }
     out.labels.push_back(std::move(labels));
     tl = deepest_pixel(tl_region, s);
     fl = two ? deepest_pixel(fl_region, s) : tl;

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <fstream>
 #include <optional>
-#include <regex>
 
 #include <unistd.h>
 
@@ -245,8 +244,9 @@ int MriCommand::synthesize_slices_of_run() const {
   scan.effects.snr = snr_;
   scan.effects.seed = seed_;
   std::vector<Flow4D> scans = mri::synthesize_run(scan, grids);
+  const double background = quantity(background_, "--background", true);
   for (std::size_t i = 0; i < scans.size(); ++i) {
-    inject_background(scans[i], quantity(background_, "--background", true));
+    inject_background(scans[i], background);
     write_scan(scans[i], out / written[i]);
   }
   // The planes scanned, for the seeds and directions of `mri inflow --landmarks`.

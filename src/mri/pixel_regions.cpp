@@ -45,11 +45,16 @@ Pixels rim_of(const Pixels& region, const PixelGrid& g) {
   return rim;
 }
 
+Pixels united(Pixels a, const Pixels& b) {
+  for (std::size_t p = 0; p < a.size(); ++p)
+    a[p] = a[p] || b[p];
+  return a;
+}
+
 Pixels grown(Pixels region, const PixelGrid& g, int steps) {
   for (int s = 0; s < steps; ++s) {
     const Pixels rim = rim_of(region, g);
-    for (std::size_t p = 0; p < region.size(); ++p)
-      region[p] = region[p] || rim[p];
+    region = united(std::move(region), rim);
   }
   return region;
 }

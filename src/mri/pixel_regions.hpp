@@ -16,6 +16,9 @@ struct PixelGrid {
 /// The 4-connected region of `mask` holding `seed` (empty when the seed is not in the mask).
 Pixels region_of(const Pixels& mask, const PixelGrid& g, std::size_t seed);
 
+/// The pixels in `a` or in `b`.
+Pixels united(Pixels a, const Pixels& b);
+
 /// `region` grown by `steps` pixels (8-connected: a square neighbourhood per step).
 Pixels grown(Pixels region, const PixelGrid& g, int steps);
 

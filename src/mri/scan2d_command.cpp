@@ -3,14 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <optional>
 #include <regex>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "analysis/landmark_sections.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
 #include "io/durable_file.hpp"
@@ -209,9 +207,9 @@ int Scan2dCommands::cine() const {
   double period = 0.0;
   for (const std::string& item : at_) {
     const auto [name, text] = named(item, "--at");
-    const bool numbered = std::all_of(name.begin(), name.end(), ::isdigit);
+    const bool station = std::all_of(name.begin(), name.end(), ::isdigit); // TLk and FLk
     for (const std::string& column :
-         numbered ? std::vector{"TL" + name, "FL" + name} : std::vector{name})
+         station ? std::vector{"TL" + name, "FL" + name} : std::vector{name})
       if (std::find(columns.begin(), columns.end(), column) != columns.end())
         input_error("--at {}: '{}' is measured twice; one scan per station or landmark", name,
                     column);
@@ -220,7 +218,6 @@ int Scan2dCommands::cine() const {
     const Flow4D cine = read_corrected(folder, {}, r);
     cine.require(Encoding::magnitude, fmt::format("--at {}: '{}'", name, folder.string()));
     // A station's TL and FL points, or one landmark's.
-    const bool station = numbered;
     const auto lumen_point = [&](const std::string& landmark) {
       const geometry::Landmark& l = landmarks.plane(landmark);
       return l.point.value_or(l.origin);

@@ -51,10 +51,7 @@ void encode(Flow4D& data, Encoding e) {
   const Vec3& n = data.grid.direction[2];
   for (Frame& fr : data.frames)
     for (std::size_t v = 0; v < fr.magnitude.size(); ++v) {
-      const double vn =
-          e == Encoding::magnitude
-              ? 0.0
-              : fr.velocity[0][v] * n[0] + fr.velocity[1][v] * n[1] + fr.velocity[2][v] * n[2];
+      const double vn = e == Encoding::magnitude ? 0.0 : along(fr, v, n);
       for (int c = 0; c < 3; ++c)
         fr.velocity[c][v] = static_cast<float>(vn * n[c]);
     }
@@ -75,10 +72,7 @@ void add_scanner_effects(Flow4D& data, const ScannerEffects& e) {
     for (std::size_t v = 0; v < n; ++v) {
       const double m = fr.magnitude[v];
       for (int c = 0; c < measured; ++c) {
-        double vel = through ? fr.velocity[0][v] * slice_normal[0] +
-                                   fr.velocity[1][v] * slice_normal[1] +
-                                   fr.velocity[2][v] * slice_normal[2]
-                             : fr.velocity[c][v];
+        double vel = through ? along(fr, v, slice_normal) : fr.velocity[c][v];
         if (s > 0) {
           // Phase noise from the magnitude's SNR; where the signal is lost in the noise
           // (below 2 s) the phase is uniform over the whole range.

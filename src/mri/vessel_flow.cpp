@@ -19,7 +19,7 @@ std::optional<std::pair<const geometry::Landmark*, Vec3>>
 landmark_in_slice(const ImageGrid& g, const geometry::Landmarks& landmarks) {
   const Vec3& n = g.direction[2];
   const Vec3 centre = g.point({0.5 * (g.size[0] - 1), 0.5 * (g.size[1] - 1), 0.0});
-  const double reach = std::max(g.spacing[2], 5e-3); // within the slab or 5 mm of it
+  const double reach = slice_reach(g);
   std::optional<std::pair<const geometry::Landmark*, Vec3>> best;
   double best_distance = 1e300;
   for (const geometry::Landmark& l : landmarks.planes) {
