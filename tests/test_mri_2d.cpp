@@ -393,6 +393,14 @@ TEST(Mri2d, CineSplitsLuminaJoinedAcrossAThinFlap) {
         mri::track_lumina(cine, "1", {-6.2e-3, 0, 15e-3}, std::nullopt);
       },
       "off the slice"); // 10 mm off a 5 mm slice: another plane's point
+  // A NaN in the magnitude next to a lumen is refused, not turned into a NaN area.
+  mri::Flow4D damaged = cine;
+  damaged.frames[1].magnitude[cine.grid.linear(20, 26, 0)] = std::nanf("");
+  expect_input_error(
+      [&] {
+        mri::track_lumina(damaged, "1", {-6.2e-3, 0, 5e-3}, Vec3{6.2e-3, 0, 5e-3});
+      },
+      "not a number");
   // One frame without an R-R interval has no cycle.
   mri::Flow4D one = cine;
   one.frames.resize(1);

@@ -192,6 +192,15 @@ LuminaSeries track_lumina(const Flow4D& cine, const std::string& station, const 
     }
     if (f > 0 && overlap(tl_region, previous_fl) > overlap(tl_region, previous_tl))
       ++out.swaps;
+    // The areas read the magnitude out to three pixels around the lumina (edge, ring, tissue
+    // band): a NaN there would make an area NaN or move the tissue level, so it is refused.
+    const Pixels read = grown(united(tl_region, fl_region), s, 3);
+    for (std::size_t p = 0; p < s.count(); ++p)
+      if (read[p] && !std::isfinite(m[p]))
+        input_error("station {}, frame {} (t = {:.4g} s): the magnitude near the lumina is not a "
+                    "number (NaN or infinite); the areas would be wrong. Repair or mask that "
+                    "frame of the input",
+                    station, f, cine.frames[f].time);
     const double tissue = tissue_level(united(tl_region, fl_region), m, s);
     const Pixels tl_rim = rim_of(tl_region, s), fl_rim = rim_of(fl_region, s);
     out.time.push_back(cine.frames[f].time);
