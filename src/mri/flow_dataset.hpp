@@ -13,37 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "core/image_grid.hpp"
 #include "core/types.hpp"
 
 namespace tearflow::mri {
 
-struct ImageGrid {
-  std::array<int, 3> size{};                         ///< voxels along i, j, k
-  Vec3 origin{};                                     ///< centre of voxel (0, 0, 0) [m]
-  Vec3 spacing{};                                    ///< voxel size along i, j, k [m]
-  Mat3 direction{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}; ///< unit index axes in LPS
-
-  std::size_t count() const { return static_cast<std::size_t>(size[0]) * size[1] * size[2]; }
-  std::size_t linear(int i, int j, int k) const {
-    return static_cast<std::size_t>(i) +
-           static_cast<std::size_t>(size[0]) * (j + std::size_t(size[1]) * k);
-  }
-  /// Patient point of a continuous index (i, j, k).
-  Vec3 point(const Vec3& index) const;
-  /// Continuous index of a patient point (the inverse of point()).
-  Vec3 index(const Vec3& p) const;
-  /// True when the two grids place the same voxels at the same points (within 1e-4 voxel).
-  bool same_as(const ImageGrid& other) const;
-};
-
-/// A grid of `size` voxels of `spacing`, centred on `centre`, its index axes the rows of
-/// `direction` (orthonormalised here).
-ImageGrid centred_grid(const Vec3& centre, const Mat3& direction, std::array<int, 3> size,
-                       const Vec3& spacing);
-
-/// The rotation by `degrees` about the unit `axis` (Rodrigues), as rows: the direction
-/// matrix of a grid rotated from the patient axes.
-Mat3 rotation(const Vec3& axis, double degrees);
+// The voxel grid (core/image_grid.hpp), as the MRI code has always named it.
+using ::tearflow::centred_grid;
+using ::tearflow::ImageGrid;
+using ::tearflow::rotation;
 
 struct Frame {
   double time = 0.0;                          ///< after the trigger, the window's centre [s]
