@@ -25,13 +25,6 @@ namespace {
 using namespace testing;
 using ::testing::HasSubstr;
 
-struct TempDir {
-  fs::path path =
-      fs::temp_directory_path() / fmt::format("tearflow-geometry-import-{}", ::getpid());
-  TempDir() { fs::create_directories(path); }
-  ~TempDir() { fs::remove_all(path); }
-};
-
 std::string import_error(const ImportOptions& o, const fs::path& out) {
   try {
     import_geometry(o, out);
@@ -105,7 +98,7 @@ double region_volume(const MeshReport& r, const std::string& name) {
 }
 
 TEST(GeometryImport, NonWatertightSurfaceIsAClearError) {
-  TempDir dir;
+  TempDir dir("geometry-import");
   const CachedModel m = cached_tbad("OR", kCoarse);
   write_cube_stl(dir.path / "open.stl", 1);
   write_cube_stl(dir.path / "closed.stl", 0);
@@ -123,7 +116,7 @@ TEST(GeometryImport, NonWatertightSurfaceIsAClearError) {
 }
 
 TEST(GeometryImport, FinishedMeshKeepsRegionsFacesAndLandmarks) {
-  TempDir dir;
+  TempDir dir("geometry-import");
   const CachedModel m = cached_tbad("OR", kCoarse);
   ImportOptions o;
   o.mesh = m.dir / GeometryFiles::kMesh;
@@ -141,7 +134,7 @@ TEST(GeometryImport, FinishedMeshKeepsRegionsFacesAndLandmarks) {
 }
 
 TEST(GeometryImport, LandmarkOutsideTheFluidIsAnError) {
-  TempDir dir;
+  TempDir dir("geometry-import");
   const fs::path msh = dir.path / "pipe.msh";
   mesh::make_pipe({0.01, 0.05, 0.004}, msh); // metres: import with --units m
   Landmarks l;
@@ -163,7 +156,7 @@ TEST(GeometryImport, LandmarkOutsideTheFluidIsAnError) {
 // (../shared/meshes/pipe-fsi, cm). Merged, they must form one mesh whose interface nodes are
 // shared, with the wall's copy of the interface dropped.
 TEST(GeometryImport, SeparateFluidAndWallMeshesAreMergedAtTheirSharedNodes) {
-  TempDir dir;
+  TempDir dir("geometry-import");
   const fs::path fsi = fs::path(TEARFLOW_SHARED_DIR) / "meshes" / "pipe-fsi";
   const mesh::Mesh lumen = mesh::read_simvascular(fsi / "lumen", 1e-2);
   const mesh::Mesh wall = mesh::read_simvascular(fsi / "wall", 1e-2, "wall");
@@ -238,7 +231,7 @@ mesh::Mesh reimport_faces(const CachedModel& m, const fs::path& dir, bool remesh
 // wall, the same named faces, shared interface nodes, the same volumes and tear areas,
 // every landmark in the fluid (import checks it), usable tets.
 TEST(GeometryImport, FaceSurfacesOfTheTbadKeptGiveTheSameModel) {
-  TempDir dir;
+  TempDir dir("geometry-import");
   const CachedModel m = cached_tbad("OR", kCoarse);
   const mesh::Mesh back = reimport_faces(m, dir.path, false);
   const MeshReport before = check_fsi_mesh(m.mesh), after = check_fsi_mesh(back);
@@ -267,7 +260,7 @@ TEST(GeometryImport, FaceSurfacesOfTheTbadKeptGiveTheSameModel) {
 // The same faces remeshed at the target size: a valid two-region mesh with the same named
 // faces, volumes and tears within what re-chording the surfaces can change.
 TEST(GeometryImport, FaceSurfacesOfTheTbadAreRemeshedAtTheTargetSize) {
-  TempDir dir;
+  TempDir dir("geometry-import");
   // The model at one uniform size (no true-lumen sizing, --lumen-elements 0): remeshing
   // imported surfaces knows only the target size, and re-chording the finer true-lumen
   // triangles at 3 mm leaves slivers (radius ratio 0.007) where they meet the coarse rest.
@@ -304,7 +297,7 @@ TEST(GeometryImport, FaceSurfacesOfTheTbadAreRemeshedAtTheTargetSize) {
 // SimVascular's mesh-surfaces as they come (../shared/meshes/pipe-fsi, cm): the lumen's
 // faces renamed, the wall's copy of the lumen wall (wall_inner) dropped.
 TEST(GeometryImport, SimVascularMeshSurfacesAreMeshedWithAWall) {
-  TempDir dir;
+  TempDir dir("geometry-import");
   const fs::path fsi = fs::path(TEARFLOW_SHARED_DIR) / "meshes" / "pipe-fsi";
   Landmarks l;
   l.planes.push_back({"mid", {0, 0, 0.05}, {0, 0, 1}, "aorta", std::nullopt}); // [m]
@@ -371,7 +364,7 @@ int run(const std::string& command) {
 }
 
 TEST(GeometryCli, NegativeThicknessExitsWithInputError) {
-  TempDir dir;
+  TempDir dir("geometry-import");
   const std::string log = (dir.path / "log").string();
   EXPECT_EQ(run(fmt::format("{} geometry tbad --wall-thickness -2 -o {} 2> {}", TEARFLOW_BINARY,
                             (dir.path / "out").string(), log)),
@@ -385,7 +378,7 @@ TEST(GeometryCli, ReportWritesPictureUnderVirtualX) {
   if (run("command -v xvfb-run > /dev/null") != 0)
     GTEST_SKIP() << "xvfb-run is not installed (scripts/setup installs it)";
   const CachedModel m = cached_tbad("OR", kCoarse);
-  TempDir dir;
+  TempDir dir("geometry-import");
   const fs::path png = dir.path / "model.png";
   ASSERT_EQ(run(fmt::format("xvfb-run -a {} geometry report {} --png {} > {}", TEARFLOW_BINARY,
                             m.dir.string(), png.string(), (dir.path / "out").string())),

@@ -22,6 +22,16 @@ namespace tearflow::geometry::testing {
 
 namespace fs = std::filesystem;
 
+/// A private directory for one test process, removed with everything in it.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& tag)
+      : path(fs::temp_directory_path() / fmt::format("tearflow-{}-{}", tag, ::getpid())) {
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
 /// CI's element size: the default, 3 mm (about 15 s per model on one core).
 constexpr double kCoarse = 3e-3;
 

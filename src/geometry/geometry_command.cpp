@@ -12,7 +12,9 @@
 #include "core/units.hpp"
 #include "geometry/geometry_report.hpp"
 #include "geometry/import.hpp"
+#include "geometry/label_model.hpp"
 #include "geometry/tbad_builder.hpp"
+#include "geometry/voxelize.hpp"
 
 namespace tearflow::geometry {
 
@@ -41,6 +43,15 @@ struct GeometryOptions {
   // report
   std::string dir, png;
   bool no_png = false;
+  // labels (its SCAN is `dir`; also element_size, wall_thickness, entry/exit_area, renames,
+  // landmarks, station_offset)
+  int true_lumen = 1, false_lumen = 2, thrombus_label = -1;
+  double smoothing = 0.5;
+  std::vector<std::string> tear_areas;
+  // voxelize (its DIR is `dir`), in mm and degrees
+  double voxel_spacing = 1.0;
+  std::vector<double> rotate;
+  bool thrombus = false;
 
   TbadSpec tbad_spec() const {
     TbadSpec s;
@@ -91,6 +102,68 @@ struct GeometryOptions {
     return s;
   }
 };
+
+namespace {
+
+// NAME=VALUE (VALUE a finite number), for --tear-area and --face.
+std::pair<std::string, std::string> name_value(const std::string& text, const char* option) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    input_error("{} '{}': expected NAME=VALUE", option, text);
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+int run_labels(const GeometryOptions& o) {
+  LabelModelOptions lo;
+  lo.dissection.roles = {o.true_lumen, o.false_lumen, o.thrombus_label};
+  if (!std::isnan(o.wall_thickness))
+    lo.dissection.wall_thickness = o.wall_thickness * mm;
+  lo.dissection.smoothing = o.smoothing;
+  if (!std::isnan(o.element_size))
+    lo.element_size = o.element_size * mm;
+  if (!std::isnan(o.station_offset))
+    lo.station_offset = o.station_offset * mm;
+  if (!std::isnan(o.entry_area))
+    lo.tear_areas.push_back({"entry", o.entry_area * mm2});
+  if (!std::isnan(o.exit_area))
+    lo.tear_areas.push_back({"exit", o.exit_area * mm2});
+  for (const std::string& t : o.tear_areas) {
+    const auto [name, value] = name_value(t, "--tear-area");
+    double area = NAN;
+    std::size_t used = 0;
+    try {
+      area = std::stod(value, &used);
+    } catch (const std::exception&) {
+    }
+    if (used != value.size() || !std::isfinite(area))
+      input_error("--tear-area {}: '{}' is not a number of mm^2", name, value);
+    lo.tear_areas.push_back({name, area * mm2});
+  }
+  for (const std::string& r : o.renames)
+    lo.rename_faces.push_back(name_value(r, "--face"));
+  lo.landmarks = o.landmarks;
+  lo.verbose = o.verbose;
+  const LabelModel m = geometry_from_labels(o.dir, lo, o.output);
+  std::size_t fluid = 0;
+  for (std::size_t t = 0; t < m.mesh.tets.size(); ++t)
+    fluid += m.mesh.regions[m.mesh.tet_region[t]] == "fluid";
+  fmt::print("labels: flap gap {:.2f} mm; caps:", m.flap_gap / mm);
+  for (const LabelCap& c : m.caps)
+    fmt::print(" {} {:.0f} mm^2", c.name, c.area / mm2);
+  fmt::print("\ntears:");
+  for (const LabelTear& t : m.tears)
+    fmt::print(" {} {:.1f} mm^2{}", t.name, t.area / mm2,
+               t.growth != 0 ? fmt::format(" (labels: {:.1f})", t.found_area / mm2) : "");
+  fmt::print("\n{} nodes, {} fluid and {} wall tets; fields {:.1f} s, landmarks {:.1f} s, "
+             "meshing {:.1f} s\nwrote {}, {} and {}\n",
+             m.mesh.num_nodes(), fluid, m.mesh.tets.size() - fluid, m.seconds_fields,
+             m.seconds_landmarks, m.seconds_mesh, GeometryFiles{o.output}.mesh().string(),
+             GeometryFiles{o.output}.landmarks().string(),
+             (std::filesystem::path(o.output) / "labels.json").string());
+  return 0;
+}
+
+} // namespace
 
 GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<GeometryOptions>()) {
   GeometryOptions& o = *options_;
@@ -201,6 +274,56 @@ GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<Geom
     for (CLI::Option* option : sub->get_options())
       if (option->get_type_name() == "FLOAT")
         option->check(finite);
+
+  // The header keeps no pointer to these two: run() finds them by name.
+  CLI::App* labels = command_->add_subcommand(
+      "labels", "build a dissection model from a segmented scan (label map): flap, tears, wall, "
+                "caps, landmarks and mesh");
+  labels->add_option("scan", o.dir, "label map: .nii.gz, .nii, .mha, .mhd, .nrrd or .nhdr")
+      ->required();
+  labels->add_option("-o,--output", o.output, "output directory")->required();
+  labels->add_option("--true-lumen", o.true_lumen, "label of the true lumen (1)");
+  labels->add_option("--false-lumen", o.false_lumen, "label of the false lumen (2)");
+  labels->add_option("--thrombus", o.thrombus_label,
+                     "label of thrombus in the false lumen (none); meshed as wall");
+  labels->add_option("--wall-thickness", o.wall_thickness, "wall and flap thickness h, mm (2)");
+  labels->add_option("--element-size", o.element_size, "target element size, mm (3)");
+  labels->add_option("--entry-tear-area", o.entry_area, "resize the entry tear, mm^2");
+  labels->add_option("--exit-tear-area", o.exit_area, "resize the exit tear, mm^2");
+  labels->add_option("--tear-area", o.tear_areas,
+                     "resize a tear: NAME=mm^2 (entry, exit, tear_2, ...; repeatable)");
+  labels->add_option("--face", o.renames, "rename a cap: OLD=NEW (repeatable)");
+  labels->add_option("--landmarks", o.landmarks,
+                     "landmarks JSON to use instead of the ones placed on the centreline");
+  labels->add_option("--station-offset", o.station_offset,
+                     "TL1/FL1 (TL5/FL5) distal (proximal) to the entry (exit) tear, mm (24)");
+  labels
+      ->add_option("--smoothing", o.smoothing,
+                   "Gaussian smoothing of the lumina's distance fields, voxels (0.5)")
+      ->check(CLI::Range(0.0, 3.0));
+  labels->add_flag("-v,--verbose", o.verbose, "show the stages");
+  for (CLI::Option* option : labels->get_options())
+    if (option->get_type_name() == "FLOAT")
+      option->check(finite);
+
+  CLI::App* voxelize = command_->add_subcommand(
+      "voxelize", "write a geometry as a label map: true lumen 1, false lumen 2, thrombus 3; "
+                  "flap, wall and outside 0 (the round trip of `geometry labels`)");
+  voxelize->add_option("dir", o.dir, "geometry directory (mesh.msh, landmarks.json)")->required();
+  voxelize
+      ->add_option("-o,--output", o.output,
+                   "label map: .nii.gz, .nii, .mha, .mhd or .nrrd (coordinates in mm, LPS)")
+      ->required();
+  voxelize->add_option("--spacing", o.voxel_spacing, "isotropic voxel size, mm (1)")->check(finite);
+  voxelize
+      ->add_option("--rotate", o.rotate,
+                   "image axes rotated about x, then y, then z: ax,ay,az in degrees (oblique "
+                   "scan)")
+      ->expected(3)
+      ->delimiter(',')
+      ->check(finite);
+  voxelize->add_flag("--thrombus", o.thrombus,
+                     "label the false lumen past the exit tear as thrombus (3)");
 }
 
 GeometryCommand::~GeometryCommand() = default;
@@ -256,6 +379,29 @@ int GeometryCommand::run() const {
     import_geometry(io, o.output);
     fmt::print("wrote {} and {}\n", GeometryFiles{o.output}.mesh().string(),
                GeometryFiles{o.output}.landmarks().string());
+    return 0;
+  }
+  if (command_->get_subcommand("labels")->parsed())
+    return run_labels(o);
+  if (const CLI::App* voxelize = command_->get_subcommand("voxelize"); voxelize->parsed()) {
+    VoxelizeOptions vo;
+    vo.spacing = o.voxel_spacing * mm;
+    if (!o.rotate.empty())
+      vo.rotation = {o.rotate[0], o.rotate[1], o.rotate[2]};
+    vo.thrombus = o.thrombus;
+    const VoxelizeResult r = voxelize_geometry(o.dir, vo, o.output);
+    fmt::print("{} x {} x {} voxels of {} mm; label: voxels, volume\n", r.size[0], r.size[1],
+               r.size[2], o.voxel_spacing);
+    fmt::print("  {} true lumen: {}, {:.2f} mL\n  {} false lumen: {}, {:.2f} mL\n", vo.true_lumen,
+               r.tl_voxels, r.tl_volume / units::mL, vo.false_lumen, r.fl_voxels,
+               r.fl_volume / units::mL);
+    if (vo.thrombus)
+      fmt::print("  {} thrombus: {}, {:.2f} mL\n", vo.thrombus_label, r.thrombus_voxels,
+                 r.thrombus_volume / units::mL);
+    if (r.pocket_voxels > 0)
+      fmt::print("({} voxels in pockets cut off from both lumens took their neighbours' label)\n",
+                 r.pocket_voxels);
+    fmt::print("wrote {}\n", o.output);
     return 0;
   }
   const std::filesystem::path dir = o.dir;

@@ -224,13 +224,17 @@ void import_geometry(const ImportOptions& o, const fs::path& dir) {
       m = merge_fluid_and_wall(std::move(m), read_volume_mesh(o.wall_mesh, o.length_scale, "wall"));
     rename_faces(m, o.rename_faces);
   }
+  write_geometry(m, landmarks, dir);
+}
+
+void write_geometry(const mesh::Mesh& m, const Landmarks& landmarks, const fs::path& dir) {
   check_fsi_mesh(m);
   check_fluid_boundary_named(m);
   check_landmarks(m, landmarks);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec)
-    input_error("import: cannot create '{}': {}", dir.string(), ec.message());
+    input_error("cannot create '{}': {}", dir.string(), ec.message());
   write_msh(m, GeometryFiles{dir}.mesh());
   write_landmarks(landmarks, GeometryFiles{dir}.landmarks(), "mm");
 }

@@ -6,6 +6,9 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/landmarks.hpp"
+#include "mesh/mesh.hpp"
+
 namespace tearflow::geometry {
 
 struct ImportOptions {
@@ -35,5 +38,11 @@ struct ImportOptions {
 /// InputError for surfaces that do not close the fluid or the wall, a mesh whose named faces do not
 /// close the fluid (or lack inlet and outlet), landmarks outside the fluid.
 void import_geometry(const ImportOptions& options, const std::filesystem::path& dir);
+
+/// Checks a model (check_fsi_mesh; every fluid boundary triangle in a named face, inlet and
+/// outlet among them; every landmark in the fluid) and writes DIR/mesh.msh (mm, Gmsh 2.2)
+/// and DIR/landmarks.json. InputError naming what is wrong.
+void write_geometry(const mesh::Mesh& mesh, const Landmarks& landmarks,
+                    const std::filesystem::path& dir);
 
 } // namespace tearflow::geometry
