@@ -21,6 +21,24 @@ struct ImageGrid {
     return static_cast<std::size_t>(i) +
            static_cast<std::size_t>(size[0]) * (j + std::size_t(size[1]) * k);
   }
+  /// The index (i, j, k) of voxel v (v = linear(i, j, k)).
+  std::array<int, 3> ijk(std::size_t v) const {
+    const std::size_t nx = size[0], ny = size[1];
+    return {static_cast<int>(v % nx), static_cast<int>(v / nx % ny),
+            static_cast<int>(v / (nx * ny))};
+  }
+  /// Calls f(u, di, dj, dk) for each of voxel v's 26 neighbours u inside the grid.
+  template <typename F> void for_each_neighbour(std::size_t v, F&& f) const {
+    const auto [i, j, k] = ijk(v);
+    for (int dk = -1; dk <= 1; ++dk)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int a = i + di, b = j + dj, c = k + dk;
+          if ((di || dj || dk) && a >= 0 && b >= 0 && c >= 0 && a < size[0] && b < size[1] &&
+              c < size[2])
+            f(linear(a, b, c), di, dj, dk);
+        }
+  }
   /// Patient point of a continuous index (i, j, k).
   Vec3 point(const Vec3& index) const;
   /// Continuous index of a patient point (the inverse of point()).

@@ -242,24 +242,15 @@ std::vector<float> signed_distance(const ImageGrid& grid, const std::vector<std:
     heap.pop();
     if (d > dist[v])
       continue;
-    const int i = static_cast<int>(v % nx), j = static_cast<int>((v / nx) % grid.size[1]),
-              k = static_cast<int>(v / nxy);
-    for (int dk = -1; dk <= 1; ++dk)
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int di = -1; di <= 1; ++di) {
-          const int a = i + di, bb = j + dj, c = k + dk;
-          if (a < 0 || bb < 0 || c < 0 || a >= grid.size[0] || bb >= grid.size[1] ||
-              c >= grid.size[2])
-            continue;
-          const std::size_t u = grid.linear(a, bb, c);
-          const Vec3 e = point(u) - nearest[v];
-          const double du = std::sqrt(dot(e, e));
-          if (du < dist[u] && du < reach) {
-            dist[u] = du;
-            nearest[u] = nearest[v];
-            heap.push({du, u});
-          }
-        }
+    grid.for_each_neighbour(v, [&](std::size_t u, int, int, int) {
+      const Vec3 e = point(u) - nearest[v];
+      const double du = std::sqrt(dot(e, e));
+      if (du < dist[u] && du < reach) {
+        dist[u] = du;
+        nearest[u] = nearest[v];
+        heap.push({du, u});
+      }
+    });
   }
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = std::isfinite(dist[i]) ? static_cast<float>(mask[i] ? -dist[i] : dist[i])

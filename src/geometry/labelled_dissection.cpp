@@ -370,22 +370,12 @@ void LabelledDissection::find_tears() {
       const std::size_t v = queue.front();
       queue.pop_front();
       members[id].push_back(v);
-      const int i = static_cast<int>(v % grid_.size[0]);
-      const int j = static_cast<int>((v / grid_.size[0]) % grid_.size[1]);
-      const int k = static_cast<int>(v / (std::size_t(grid_.size[0]) * grid_.size[1]));
-      for (int dk = -1; dk <= 1; ++dk)
-        for (int dj = -1; dj <= 1; ++dj)
-          for (int di = -1; di <= 1; ++di) {
-            const int a = i + di, b = j + dj, c = k + dk;
-            if (a < 0 || b < 0 || c < 0 || a >= grid_.size[0] || b >= grid_.size[1] ||
-                c >= grid_.size[2])
-              continue;
-            const std::size_t u = grid_.linear(a, b, c);
-            if (cand[u] && comp[u] < 0) {
-              comp[u] = id;
-              queue.push_back(u);
-            }
-          }
+      grid_.for_each_neighbour(v, [&](std::size_t u, int, int, int) {
+        if (cand[u] && comp[u] < 0) {
+          comp[u] = id;
+          queue.push_back(u);
+        }
+      });
     }
   }
   double total = 0;
@@ -394,9 +384,7 @@ void LabelledDissection::find_tears() {
     Vec3 c{0, 0, 0};
     std::vector<Vec3> points;
     for (std::size_t v : voxels) {
-      const int i = static_cast<int>(v % grid_.size[0]);
-      const int j = static_cast<int>((v / grid_.size[0]) % grid_.size[1]);
-      const int k = static_cast<int>(v / (std::size_t(grid_.size[0]) * grid_.size[1]));
+      const auto [i, j, k] = grid_.ijk(v);
       points.push_back(grid_.point({double(i), double(j), double(k)}));
       c = c + points.back();
       t.inscribed = std::max(t.inscribed, double(mid_sigma_.values[v]));

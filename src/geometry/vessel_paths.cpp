@@ -2,6 +2,7 @@
 #include "geometry/vessel_paths.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -12,23 +13,6 @@
 namespace tearflow::geometry {
 
 namespace {
-
-struct Neighbour {
-  int di, dj, dk;
-  double length;
-};
-
-std::vector<Neighbour> neighbours(const ImageGrid& g) {
-  std::vector<Neighbour> out;
-  for (int dk = -1; dk <= 1; ++dk)
-    for (int dj = -1; dj <= 1; ++dj)
-      for (int di = -1; di <= 1; ++di)
-        if (di || dj || dk)
-          out.push_back({di, dj, dk,
-                         std::sqrt(std::pow(di * g.spacing[0], 2) + std::pow(dj * g.spacing[1], 2) +
-                                   std::pow(dk * g.spacing[2], 2))});
-  return out;
-}
 
 // Dijkstra from `sources` over the inside voxels; a step from u to v costs
 // length * weight(v). Fills distance and (optionally) predecessor.
@@ -46,30 +30,30 @@ void dijkstra(const VesselVoxels& vessel, const std::vector<std::size_t>& source
     distance[s] = 0;
     heap.push({0.0, s});
   }
-  const std::vector<Neighbour> nb = neighbours(g);
-  const std::size_t nx = g.size[0], nxy = nx * g.size[1];
+  // The step's length to each neighbour, by (di, dj, dk) + 1 in base 3.
+  std::array<double, 27> length{};
+  for (int dk = -1; dk <= 1; ++dk)
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di)
+        length[(di + 1) + 3 * (dj + 1) + 9 * (dk + 1)] =
+            std::sqrt(std::pow(di * g.spacing[0], 2) + std::pow(dj * g.spacing[1], 2) +
+                      std::pow(dk * g.spacing[2], 2));
   while (!heap.empty()) {
     const auto [d, u] = heap.top();
     heap.pop();
     if (d > distance[u])
       continue;
-    const int i = static_cast<int>(u % nx), j = static_cast<int>((u / nx) % g.size[1]),
-              k = static_cast<int>(u / nxy);
-    for (const Neighbour& e : nb) {
-      const int a = i + e.di, b = j + e.dj, c = k + e.dk;
-      if (a < 0 || b < 0 || c < 0 || a >= g.size[0] || b >= g.size[1] || c >= g.size[2])
-        continue;
-      const std::size_t v = g.linear(a, b, c);
+    g.for_each_neighbour(u, [&](std::size_t v, int di, int dj, int dk) {
       if (!vessel.inside[v])
-        continue;
-      const double nd = d + e.length * weight(v);
+        return;
+      const double nd = d + length[(di + 1) + 3 * (dj + 1) + 9 * (dk + 1)] * weight(v);
       if (nd < distance[v]) {
         distance[v] = nd;
         if (predecessor)
           (*predecessor)[v] = static_cast<std::int64_t>(u);
         heap.push({nd, v});
       }
-    }
+    });
   }
 }
 
@@ -156,10 +140,11 @@ std::vector<std::size_t> trace_voxels(const std::vector<std::int64_t>& predecess
 
 std::vector<Vec3> path_points(const VesselVoxels& vessel, const std::vector<std::size_t>& voxels) {
   const ImageGrid& g = *vessel.grid;
-  const std::size_t nx = g.size[0], nxy = nx * g.size[1];
   std::vector<Vec3> raw;
-  for (std::size_t u : voxels)
-    raw.push_back(g.point({double(u % nx), double((u / nx) % g.size[1]), double(u / nxy)}));
+  for (std::size_t u : voxels) {
+    const auto [i, j, k] = g.ijk(u);
+    raw.push_back(g.point({double(i), double(j), double(k)}));
+  }
   const double step = std::min({g.spacing[0], g.spacing[1], g.spacing[2]});
   std::vector<Vec3> out(raw.size());
   for (std::size_t i = 0; i < raw.size(); ++i) {

@@ -18,7 +18,6 @@
 
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
-#include "fem/p1_tet.hpp"
 #include "geometry/fsi_mesh.hpp"
 #include "geometry/label_map.hpp"
 #include "geometry/landmarks.hpp"
@@ -194,13 +193,19 @@ void rasterize_fluid(const mesh::Mesh& mesh, int fluid, const Grid& g,
     std::array<int, 3> lo, hi;
     if (!g.range(a, b, lo, hi))
       continue;
-    // Barycentric coordinates are affine, so they are the same in index space.
-    const fem::TetGeometry tg = fem::tet_geometry(q);
+    // Barycentric coordinates are affine, so they are the same in index space: l_a =
+    // grad[a] . (x - q0) with grad[a] the rows of the inverse of the edge matrix.
+    const Vec3 e1 = q[1] - q[0], e2 = q[2] - q[0], e3 = q[3] - q[0];
+    const double det = dot(e1, cross(e2, e3));
+    if (det == 0)
+      continue;
+    const std::array<Vec3, 4> grad{Vec3{}, (1 / det) * cross(e2, e3), (1 / det) * cross(e3, e1),
+                                   (1 / det) * cross(e1, e2)};
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
         for (int i = lo[0]; i <= hi[0]; ++i) {
           const Vec3 r = Vec3{double(i), double(j), double(k)} - q[0];
-          const double l1 = dot(tg.grad[1], r), l2 = dot(tg.grad[2], r), l3 = dot(tg.grad[3], r);
+          const double l1 = dot(grad[1], r), l2 = dot(grad[2], r), l3 = dot(grad[3], r);
           // A centre on a face shared with the wall counts as fluid: which side takes a tie
           // changes nothing measurable, and rounding must not drop centres between two
           // fluid tets.
