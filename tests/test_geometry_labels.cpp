@@ -373,6 +373,11 @@ TEST(GeometryLabels, CommandLineBuildsAModelThatRuns) {
                                       " --tear-area tear_9=50 -o " + (dir.path / "x").string());
   EXPECT_NE(r.code, 0);
   EXPECT_THAT(r.output, HasSubstr("no tear 'tear_9' to resize (the tears found: entry, exit)"));
+  // Sizes checked before any work.
+  r = tearflow::testing::run_tearflow("geometry labels " + map.string() + " --element-size 0 -o " +
+                                      (dir.path / "x").string());
+  EXPECT_NE(r.code, 0);
+  EXPECT_THAT(r.output, HasSubstr("--element-size 0 mm: expected a positive length"));
 }
 
 } // namespace

@@ -46,7 +46,6 @@ struct GeometryOptions {
   // labels (its SCAN is `dir`; also element_size, wall_thickness, entry/exit_area, renames,
   // landmarks, station_offset)
   int true_lumen = 1, false_lumen = 2, thrombus_label = -1;
-  double smoothing = 0.5;
   std::vector<std::string> tear_areas;
   // voxelize (its DIR is `dir`), in mm and degrees
   double voxel_spacing = 1.0;
@@ -118,7 +117,6 @@ int run_labels(const GeometryOptions& o) {
   lo.dissection.roles = {o.true_lumen, o.false_lumen, o.thrombus_label};
   if (!std::isnan(o.wall_thickness))
     lo.dissection.wall_thickness = o.wall_thickness * mm;
-  lo.dissection.smoothing = o.smoothing;
   if (!std::isnan(o.element_size))
     lo.element_size = o.element_size * mm;
   if (!std::isnan(o.station_offset))
@@ -143,6 +141,15 @@ int run_labels(const GeometryOptions& o) {
     lo.rename_faces.push_back(name_value(r, "--face"));
   lo.landmarks = o.landmarks;
   lo.verbose = o.verbose;
+  // Checked before minutes of work, in the options' own units.
+  for (auto [value, option] : {std::pair{lo.element_size, "--element-size"},
+                               {lo.dissection.wall_thickness, "--wall-thickness"},
+                               {lo.station_offset, "--station-offset"}})
+    if (!(value > 0))
+      input_error("{} {} mm: expected a positive length", option, value / mm);
+  for (const auto& [name, area] : lo.tear_areas)
+    if (!(area > 0))
+      input_error("tear '{}': area {} mm^2, expected a positive number", name, area / mm2);
   const LabelModel m = geometry_from_labels(o.dir, lo, o.output);
   std::size_t fluid = 0;
   for (std::size_t t = 0; t < m.mesh.tets.size(); ++t)
@@ -297,10 +304,6 @@ GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<Geom
                      "landmarks JSON to use instead of the ones placed on the centreline");
   labels->add_option("--station-offset", o.station_offset,
                      "TL1/FL1 (TL5/FL5) distal (proximal) to the entry (exit) tear, mm (24)");
-  labels
-      ->add_option("--smoothing", o.smoothing,
-                   "Gaussian smoothing of the lumina's distance fields, voxels (0.5)")
-      ->check(CLI::Range(0.0, 3.0));
   labels->add_flag("-v,--verbose", o.verbose, "show the stages");
   for (CLI::Option* option : labels->get_options())
     if (option->get_type_name() == "FLOAT")

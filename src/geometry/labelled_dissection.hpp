@@ -52,7 +52,8 @@ struct LabelTear {
 struct DissectionOptions {
   LabelRoles roles;
   double wall_thickness = 2e-3; ///< h [m]: outer wall and flap
-  double smoothing = 0.5;       ///< Gaussian sigma of the distance fields, in voxels
+  /// Gaussian sigma of the distance fields beyond 6 mm of the lumina (label_map.hpp) [voxels]
+  double smoothing = 0.5;
   /// Contacts smaller than this are not tears [m^2]: a voxel or two where the segmentation's
   /// flap is thin (at 1 mm, 3 mm^2 spots were found on the voxelized built-in model).
   double min_tear_area = 10e-6;
