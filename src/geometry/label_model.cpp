@@ -270,6 +270,7 @@ LabelModel build_label_model(const LabelMap& map, const LabelModelOptions& o) {
         fl_last = s;
       }
   };
+  bool swapped = false;
   {
     const Centreline line(path_points(vessel, main_voxels));
     fl_extent(line);
@@ -280,10 +281,12 @@ LabelModel build_label_model(const LabelMap& map, const LabelModelOptions& o) {
       from_inlet = medial_paths(vessel, ends[inlet]);
       main_voxels = trace_voxels(from_inlet, ends[outlet]);
       std::reverse(main_voxels.begin(), main_voxels.end());
+      swapped = true;
     }
   }
   const Centreline line(path_points(vessel, main_voxels));
-  fl_extent(line);
+  if (swapped) // (else the centreline is the one just sampled)
+    fl_extent(line);
   out.centreline = line.p;
   say(fmt::format("centreline {:.0f} mm, {} ends, false lumen from {:.0f} to {:.0f} mm",
                   line.length() * 1e3, ends.size(), fl_first * 1e3, fl_last * 1e3));
@@ -291,12 +294,9 @@ LabelModel build_label_model(const LabelMap& map, const LabelModelOptions& o) {
   // Branches: where each leaves the aorta's centreline, in order from the inlet.
   std::vector<std::uint8_t> on_main(vessel.inside.size(), 0);
   std::map<std::size_t, double> main_s;
-  {
-    const std::vector<Vec3> pts = path_points(vessel, main_voxels);
-    for (std::size_t i = 0; i < main_voxels.size(); ++i) {
-      on_main[main_voxels[i]] = 1;
-      main_s[main_voxels[i]] = line.s[i];
-    }
+  for (std::size_t i = 0; i < main_voxels.size(); ++i) {
+    on_main[main_voxels[i]] = 1;
+    main_s[main_voxels[i]] = line.s[i];
   }
   struct Branch {
     std::size_t end;
