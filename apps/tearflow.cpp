@@ -30,6 +30,7 @@
 #include "io/case.hpp"
 #include "mri/mri_command.hpp"
 #include "report/report_command.hpp"
+#include "rom/rom_command.hpp"
 #include "run/default_case.hpp"
 #include "run/simulation.hpp"
 #include "run/solid_simulation.hpp"
@@ -300,6 +301,7 @@ int main(int argc, char** argv) {
   const report::ReportCommand report_command(app);
   const study::StudyCommand study_command(app);
   const mri::MriCommand mri_command(app);
+  const rom::RomCommand rom_command(app);
 
   int code = 0;
   bool all_ranks_stopped = false; // every rank caught the same error: none is left waiting
@@ -313,7 +315,8 @@ int main(int argc, char** argv) {
     }
     // Serial commands: one rank writes.
     const bool serial = geometry_command.selected() || analyze_command.selected() ||
-                        report_command.selected() || mri_command.selected();
+                        report_command.selected() || mri_command.selected() ||
+                        rom_command.selected();
     if (geometry_command.selected())
       code = on_one_rank("geometry", [&] { return geometry_command.run(); });
     if (tune_command.selected())
@@ -326,6 +329,8 @@ int main(int argc, char** argv) {
       code = study_command.run();
     if (mri_command.selected())
       code = on_one_rank("mri", [&] { return mri_command.run(); });
+    if (rom_command.selected())
+      code = on_one_rank("rom", [&] { return rom_command.run(); });
     all_ranks_stopped = all_ranks_stopped || serial;
   } catch (const CLI::ParseError& e) {
     // Every rank parsed the same arguments: the same error (or --help) on each, said once.

@@ -1,0 +1,374 @@
+#include "rom/calibration.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include "core/error.hpp"
+#include "core/file_layout.hpp"
+#include "core/units.hpp"
+#include "io/durable_file.hpp"
+
+namespace tearflow::rom {
+
+using nlohmann::json;
+
+namespace {
+
+/// The columns `time_s`, `flow_m3_per_s` and `mean_pressure_Pa` of an analysis CSV.
+void read_landmark_csv(const std::filesystem::path& file, std::vector<double>& t,
+                       std::vector<double>& q, std::vector<double>& p) {
+  std::ifstream in(file);
+  if (!in)
+    input_error("{}: cannot read (run `tearflow analyze` on the run first)", file.string());
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  for (std::stringstream ss(line); std::getline(ss, line, ',');)
+    header.push_back(line);
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end())
+      input_error("{}: no column '{}'", file.string(), name);
+    return static_cast<size_t>(it - header.begin());
+  };
+  const size_t ct = column("time_s"), cq = column("flow_m3_per_s"), cp = column("mean_pressure_Pa");
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty())
+      continue;
+    std::vector<std::string> cells;
+    for (std::stringstream ss(line); std::getline(ss, line, ',');)
+      cells.push_back(line);
+    auto value = [&](size_t c) {
+      if (c >= cells.size())
+        input_error("{}, line {}: {} columns, expected {}", file.string(), number, cells.size(),
+                    header.size());
+      try {
+        size_t used = 0;
+        const double v = std::stod(cells[c], &used);
+        if (used != cells[c].size() || !std::isfinite(v))
+          throw std::invalid_argument(cells[c]);
+        return v;
+      } catch (const std::exception&) {
+        input_error("{}, line {}, column {}: '{}' is not a finite number", file.string(), number,
+                    header[c], cells[c]);
+      }
+    };
+    t.push_back(value(ct)), q.push_back(value(cq)), p.push_back(value(cp));
+  }
+  if (t.size() < 3)
+    input_error("{}: {} frames, expected a cycle of at least 3", file.string(), t.size());
+}
+
+/// Linear interpolation of (t, v) at x (t increasing; ends held).
+double interpolate(const std::vector<double>& t, const std::vector<double>& v, double x) {
+  if (x <= t.front())
+    return v.front();
+  if (x >= t.back())
+    return v.back();
+  const size_t k = std::upper_bound(t.begin(), t.end(), x) - t.begin();
+  const double f = (x - t[k - 1]) / (t[k] - t[k - 1]);
+  return (1.0 - f) * v[k - 1] + f * v[k];
+}
+
+double mean(const std::vector<double>& t, const std::vector<double>& v) {
+  double s = 0.0;
+  for (size_t k = 1; k < t.size(); ++k)
+    s += 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
+  return s / (t.back() - t.front());
+}
+
+int station_count(const CalibrationRun& run) {
+  int k = 0;
+  while (run.flow.count(fmt::format("TL{}", k + 1)) && run.flow.count(fmt::format("FL{}", k + 1)))
+    ++k;
+  return k;
+}
+
+/// The fitted coefficients as log parameters: alpha, K_arch, each tear's K_t, beta (walls).
+struct Layout {
+  std::vector<std::string> tears;
+  bool compliant = false;
+  bool sizes = false; ///< the runs hold a tear at two sizes: gamma is fitted (not in log)
+  int size() const {
+    return 3 + static_cast<int>(tears.size()) + (compliant ? 1 : 0) + (sizes ? 1 : 0);
+  }
+  RomCoefficients coefficients(const Eigen::VectorXd& x) const {
+    RomCoefficients k;
+    k.viscous = std::exp(x(0));
+    k.arch_loss = std::exp(x(1));
+    k.friction = std::exp(x(2));
+    for (size_t t = 0; t < tears.size(); ++t)
+      k.tear[tears[t]] = std::exp(x(3 + t));
+    if (compliant)
+      k.flap = std::exp(x(3 + tears.size()));
+    if (sizes)
+      k.tear_size_exponent = x(size() - 1);
+    return k;
+  }
+  Eigen::VectorXd x(const RomCoefficients& k) const {
+    Eigen::VectorXd x(size());
+    x(0) = std::log(k.viscous), x(1) = std::log(std::max(k.arch_loss, 0.05));
+    x(2) = std::log(std::max(k.friction, 0.01));
+    for (size_t t = 0; t < tears.size(); ++t)
+      x(3 + t) = std::log(k.tear_coefficient(tears[t]));
+    if (compliant)
+      x(3 + tears.size()) = std::log(k.flap);
+    if (sizes)
+      x(size() - 1) = k.tear_size_exponent;
+    return x;
+  }
+};
+
+struct Objective {
+  using Scalar = double;
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+  const DissectionGeometry* g;
+  const geometry::Landmarks* landmarks;
+  std::vector<const CalibrationRun*> runs;
+  Layout layout;
+  IntegrationOptions options;
+  int values_ = 0;
+  int* evaluations;
+  int inputs() const { return layout.size(); }
+  int values() const { return values_; }
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+    ++*evaluations;
+    const RomCoefficients k = layout.coefficients(x);
+    std::vector<double> r;
+    for (const CalibrationRun* run : runs) {
+      std::vector<double> part;
+      try {
+        part = misfit(predict(*g, run->inputs, k, *landmarks, run->tear_areas, options).analysis,
+                      *run);
+      } catch (const SolverError&) { // a trial step too far: a large residual turns LM back
+        part.assign(values_ / runs.size(), 1e3);
+      }
+      r.insert(r.end(), part.begin(), part.end());
+    }
+    f = Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
+    return 0;
+  }
+};
+
+} // namespace
+
+CalibrationRun read_calibration_run(const std::filesystem::path& run_dir, const io::Case& c,
+                                    const DissectionGeometry& g, double wall_thickness,
+                                    const std::filesystem::path& run_model) {
+  CalibrationRun run;
+  run.name = run_dir.string();
+  run.inputs = rom_inputs(c, g, wall_thickness);
+  if (!run_model.empty())
+    for (const geometry::TearLandmark& t :
+         geometry::read_landmarks(GeometryFiles{run_model}.landmarks()).tears) {
+      const auto own = std::find_if(g.tears.begin(), g.tears.end(),
+                                    [&](const GeometryTear& m) { return m.name == t.name; });
+      if (own == g.tears.end())
+        input_error("{}: tear '{}' is not a tear of the calibrated model", run_model.string(),
+                    t.name);
+      if (std::abs(t.area - own->area) > 0.01 * own->area)
+        run.tear_areas[t.name] = t.area;
+    }
+  const std::filesystem::path dir = run_dir / "analysis";
+  std::vector<std::string> names{"inlet", "DAo_prox", "outlet"};
+  for (int k = 1; std::filesystem::exists(dir / fmt::format("TL{}.csv", k)); ++k)
+    names.push_back(fmt::format("TL{}", k)), names.push_back(fmt::format("FL{}", k));
+  for (const std::string& name : names) {
+    std::vector<double> t, q, p;
+    read_landmark_csv(dir / (name + ".csv"), t, q, p);
+    if (run.time.empty()) {
+      run.time = t;
+      for (double& x : run.time)
+        x -= t.front();
+    } else if (t.size() != run.time.size())
+      input_error("{}: {} frames, the run's other landmarks have {}",
+                  (dir / (name + ".csv")).string(), t.size(), run.time.size());
+    run.flow[name] = q, run.pressure[name] = p;
+  }
+  if (station_count(run) == 0)
+    input_error("{}: no paired stations TL1.csv / FL1.csv to calibrate on", dir.string());
+  return run;
+}
+
+std::vector<double> misfit(const analysis::Analysis& a, const CalibrationRun& run) {
+  auto series = [&](const std::string& name, bool pressure) {
+    const analysis::LandmarkSeries* s = a.find(name);
+    if (!s)
+      input_error("reduced-order model: no landmark {} to compare with the run", name);
+    std::vector<double> v;
+    for (const analysis::SectionValues& x : s->samples)
+      v.push_back(pressure ? x.pressure : x.flow);
+    return v;
+  };
+  std::vector<double> r;
+  auto pressure_difference = [&](const std::string& p, const std::string& q) {
+    const std::vector<double> a1 = series(p, true), a2 = series(q, true);
+    for (size_t f = 0; f < run.time.size(); ++f) {
+      const double rom =
+          interpolate(a.time, a1, run.time[f]) - interpolate(a.time, a2, run.time[f]);
+      const double d3 = run.pressure.at(p)[f] - run.pressure.at(q)[f];
+      r.push_back((rom - d3) / units::mmHg);
+    }
+  };
+  const int stations = station_count(run);
+  for (int k = 1; k <= stations; ++k)
+    pressure_difference(fmt::format("TL{}", k), fmt::format("FL{}", k));
+  pressure_difference("inlet", "FL1");
+  pressure_difference(fmt::format("FL{}", stations), "outlet");
+  pressure_difference("inlet", "DAo_prox");
+  for (int k = 1; k <= stations; ++k) {
+    const std::string tl = fmt::format("TL{}", k), fl = fmt::format("FL{}", k);
+    const double q_tl = mean(a.time, series(tl, false)), q_fl = mean(a.time, series(fl, false));
+    const double m_tl = mean(run.time, run.flow.at(tl)), m_fl = mean(run.time, run.flow.at(fl));
+    const double fr = 100.0 * q_fl / (q_fl + q_tl), fr3 = 100.0 * m_fl / (m_fl + m_tl);
+    r.push_back((fr - fr3) / 0.5);
+  }
+  return r;
+}
+
+Calibration calibrate_model(const DissectionGeometry& g, const geometry::Landmarks& landmarks,
+                            const std::vector<CalibrationRun>& runs,
+                            const IntegrationOptions& options, bool progress) {
+  Calibration out;
+  for (const bool compliant : {false, true}) {
+    Objective obj;
+    obj.g = &g, obj.landmarks = &landmarks, obj.options = options;
+    for (const CalibrationRun& r : runs)
+      if (r.inputs.wall.has_value() == compliant)
+        obj.runs.push_back(&r);
+    if (obj.runs.empty())
+      continue;
+    for (const GeometryTear& t : g.tears)
+      obj.layout.tears.push_back(t.name);
+    obj.layout.compliant = compliant;
+    for (const CalibrationRun* r : obj.runs)
+      obj.layout.sizes = obj.layout.sizes || !r->tear_areas.empty();
+    int evaluations = 0;
+    obj.evaluations = &evaluations;
+    RomCoefficients start;
+    start.arch_loss = 1.0;
+    Eigen::VectorXd x = obj.layout.x(start);
+    Eigen::VectorXd f;
+    obj.values_ = 0;
+    for (const CalibrationRun* r : obj.runs) // the residual count of each run
+      obj.values_ += static_cast<int>(
+          misfit(predict(g, r->inputs, start, landmarks, r->tear_areas, options).analysis, *r)
+              .size());
+    obj(x, f);
+    CalibrationFit fit;
+    fit.compliant = compliant;
+    fit.rms_before = std::sqrt(f.squaredNorm() / f.size());
+    Eigen::NumericalDiff<Objective> functor(obj);
+    Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Objective>> lm(functor);
+    lm.parameters.xtol = 1e-4; // 0.01 % in each coefficient: far below what the runs resolve
+    lm.parameters.ftol = 1e-6;
+    lm.parameters.maxfev = 60 * obj.layout.size();
+    lm.minimize(x);
+    obj(x, f);
+    fit.coefficients = obj.layout.coefficients(x);
+    fit.rms_after = std::sqrt(f.squaredNorm() / f.size());
+    fit.evaluations = evaluations;
+    for (const CalibrationRun* r : obj.runs)
+      fit.runs.push_back(r->name);
+    if (progress) {
+      fmt::print("{} walls, {} run(s): weighted rms misfit {:.2f} -> {:.2f} ({} evaluations)\n",
+                 compliant ? "compliant" : "rigid", obj.runs.size(), fit.rms_before, fit.rms_after,
+                 evaluations);
+      fmt::print("  {}\n", to_json(fit.coefficients).dump());
+    }
+    (compliant ? out.compliant : out.rigid) = fit;
+  }
+  return out;
+}
+
+namespace {
+
+json fit_json(const CalibrationFit& f) {
+  return {{"coefficients", to_json(f.coefficients)},
+          {"runs", f.runs},
+          {"weighted_rms_misfit_before", f.rms_before},
+          {"weighted_rms_misfit_after", f.rms_after},
+          {"evaluations", f.evaluations}};
+}
+
+std::filesystem::path calibration_file(const std::filesystem::path& model_dir) {
+  return model_dir / "rom" / "calibration.json";
+}
+
+} // namespace
+
+void save_calibration(const std::filesystem::path& model_dir, const Calibration& c) {
+  const std::filesystem::path file = calibration_file(model_dir);
+  json j{{"format", "tearflow-rom-calibration"}, {"version", 1}};
+  if (std::filesystem::exists(file)) {
+    std::ifstream in(file);
+    const json old = json::parse(in, nullptr, false);
+    if (!old.is_discarded() && old.is_object())
+      for (const char* key : {"rigid", "compliant"})
+        if (old.contains(key))
+          j[key] = old[key];
+  }
+  if (c.rigid)
+    j["rigid"] = fit_json(*c.rigid);
+  if (c.compliant)
+    j["compliant"] = fit_json(*c.compliant);
+  std::filesystem::create_directories(file.parent_path());
+  io::write_file_atomically(file, j.dump(2) + "\n");
+  fmt::print("wrote {}\n", file.string());
+}
+
+RomCoefficients load_coefficients(const std::filesystem::path& model_dir,
+                                  const std::filesystem::path& given, bool compliant,
+                                  bool progress) {
+  const std::filesystem::path file = given.empty() ? calibration_file(model_dir) : given;
+  if (!std::filesystem::exists(file)) {
+    if (!given.empty())
+      input_error("--coefficients {}: no such file", given.string());
+    if (progress)
+      fmt::print("reduced-order model: not calibrated (no {}): the default coefficients\n",
+                 file.string());
+    return {};
+  }
+  std::ifstream in(file);
+  const json j = json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object())
+    input_error("{}: not JSON", file.string());
+  const char* own = compliant ? "compliant" : "rigid";
+  const char* other = compliant ? "rigid" : "compliant";
+  const char* key = j.contains(own) ? own : other;
+  if (!j.contains(key))
+    input_error("{}: neither 'rigid' nor 'compliant' coefficients", file.string());
+  if (progress && key != own)
+    fmt::print("reduced-order model: {} has no {} fit: the {} one\n", file.string(), own, other);
+  if (!j[key].contains("coefficients"))
+    input_error("{}: '{}' has no 'coefficients'", file.string(), key);
+  return coefficients_from_json(j[key]["coefficients"], file.string() + " (" + key + ")");
+}
+
+void print_summary(const analysis::Analysis& a) {
+  const json m = analysis::metrics_json(a);
+  fmt::print("  station  FR_FL [%]  dP peak systole [mmHg]  dP end diastole [mmHg]\n");
+  const json stations = m.value("stations", json::object());
+  for (const auto& [k, s] : stations.items())
+    fmt::print("  {:>7}  {:9.1f}  {:22.2f}  {:22.2f}\n", k, s.value("FR_FL_percent", NAN),
+               s.value("dP_TL_minus_FL_peak_systole_mmHg", NAN),
+               s.value("dP_TL_minus_FL_end_diastole_mmHg", NAN));
+  if (m.contains("achieved"))
+    fmt::print("  inlet P_sys / P_dias (MAP): {:.1f} / {:.1f} ({:.1f}) mmHg\n",
+               m["achieved"].value("inlet_systolic_pressure_mmHg", NAN),
+               m["achieved"].value("inlet_diastolic_pressure_mmHg", NAN),
+               m["achieved"].value("inlet_mean_pressure_mmHg", NAN));
+}
+
+} // namespace tearflow::rom

@@ -1,0 +1,101 @@
+#pragma once
+// The reduced-order model of a dissected aorta: the measured geometry
+// (rom/dissection_geometry.hpp) and a case (fluid, inflow, outlets, wall) as a lumped network
+// (rom/lumped_network.hpp), and its periodic state as the same Analysis that `analyze` gives
+// for a 3D run (metrics.json, a CSV per landmark).
+//
+// Every segment (length l, section A(s)) is an edge with
+//   R = alpha 8 pi mu int ds / A^2           (Poiseuille; alpha calibrated),
+//   L = rho int ds / A,                       (the blood's inertia)
+// and the Bernoulli and expansion terms between its end nodes' areas; a segment of the lumina
+// (TL, FL) adds Darcy's loss f rho/2 int ds / (D A^2) q|q| (D = 2 sqrt(A / pi); f calibrated,
+// 0 uncalibrated: the developing, pulsatile flow's losses above Poiseuille's). The arch (AAo to
+// DAo_prox) adds a loss K_arch rho / (2 A_AAo^2) q|q|, shared over its segments. A tear of
+// area A_t in a flap of thickness h is an orifice:
+//   R = 8 pi mu h / A_t^2,  L = rho (h + 1.7 sqrt(A_t / pi)) / A_t  (the end corrections of a
+//   flanged hole, 0.85 r per side),  loss K_t (A_t / A_t0)^gamma rho / (2 A_t^2) q|q|, with
+//   A_t0 the model's own area of that tear (K_t calibrated; gamma only from runs of two
+//   sizes of a tear, else 0).
+// A compliant wall (a case with a solid) gives every node the compliance of its share of the
+// wall: over the node's length l_i (half its segments'), with r the equivalent radius of the
+// whole aortic section there (TL + FL at a station) and E' = E / (1 - nu^2) (hoop, plane
+// strain) and the tissue support k_s,
+//   dA/dp = 2 pi r / (E' h / r^2 + k_s),  C_i = l_i dA/dp A_i / A_section,
+// and the flap between a TL and its FL node a membrane: a plate strip of width b = 2 r clamped
+// at both edges, whose swept area per pressure difference is b^5 / (720 D), D = E h^3 /
+// (12 (1 - nu^2)):  C_TL,FL = beta l_i b^5 / (720 D)  (beta calibrated). Rigid walls (a case
+// without a solid): no node compliance, no flap; only the outlets' capacitors.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/hemodynamics.hpp"
+#include "io/case.hpp"
+#include "rom/dissection_geometry.hpp"
+#include "rom/lumped_network.hpp"
+
+namespace tearflow::rom {
+
+/// The fitted parameters (rom calibrate); the defaults are the uncalibrated model's.
+struct RomCoefficients {
+  double viscous = 1.0;   ///< alpha
+  double friction = 0.0;  ///< f, Darcy's friction factor of the lumina's convective loss
+  double arch_loss = 0.0; ///< K_arch
+  double flap = 1.0;      ///< beta
+  double tear_loss = 2.6; ///< K_t of a tear not listed below: 1 / C_c^2, C_c = 0.62
+  std::map<std::string, double> tear; ///< K_t by tear name
+  /// gamma: K_t scales as (A_t / A_t,model)^gamma when a tear is resized; 0 (the classical
+  /// orifice, K independent of size) unless runs of two sizes calibrated it.
+  double tear_size_exponent = 0.0;
+  double tear_coefficient(const std::string& name) const;
+};
+
+/// The case's wall as the network sees it.
+struct WallProperties {
+  double youngs_modulus = 0.0, poisson_ratio = 0.0, thickness = 0.0; ///< [Pa], [-], [m]
+  double support_stiffness = 0.0; ///< k_s of the outer wall's Robin support [Pa/m]
+};
+
+struct RomInputs {
+  double density = 0.0, viscosity = 0.0;
+  bc::Waveform inflow = bc::Waveform::constant(0.0);
+  std::vector<std::pair<std::string, bc::WindkesselRCR>> outlets; ///< by face
+  std::optional<WallProperties> wall;                             ///< none: rigid
+};
+
+/// What the case gives the model. The wall's thickness is the geometry's unless
+/// `wall_thickness` > 0. InputError naming the case file when it has no periodic inflow, an
+/// outlet the model cannot hold (a pressure outlet), or a compliant wall of unknown thickness.
+RomInputs rom_inputs(const io::Case& c, const DissectionGeometry& g, double wall_thickness = 0.0);
+
+/// The network. `tear_areas` replaces the geometry's tear areas by name [m^2].
+LumpedNetwork build_network(const DissectionGeometry& g, const RomInputs& in,
+                            const RomCoefficients& k,
+                            const std::map<std::string, double>& tear_areas = {});
+
+/// The periodic state of the network as an analysis: every landmark of `landmarks` that is a
+/// node (section values: Q, A(t), P; flap and velocity unknown: NaN), peak systole and end
+/// diastole marked, the achieved inlet pressures and splits in `cycle`.
+analysis::Analysis network_analysis(const LumpedNetwork& net, const NetworkSolution& s,
+                                    const DissectionGeometry& g, const RomInputs& in,
+                                    const RomCoefficients& k, const geometry::Landmarks& landmarks);
+
+/// Builds, integrates to the periodic state (the outlets' 0D periodic state as the start) and
+/// measures: the model's answer for one variant.
+struct Prediction {
+  analysis::Analysis analysis;
+  NetworkSolution solution;
+};
+Prediction predict(const DissectionGeometry& g, const RomInputs& in, const RomCoefficients& k,
+                   const geometry::Landmarks& landmarks,
+                   const std::map<std::string, double>& tear_areas = {},
+                   const IntegrationOptions& options = {});
+
+nlohmann::json to_json(const RomCoefficients& k);
+/// InputError naming `source` and the key for anything missing, negative or not a number.
+RomCoefficients coefficients_from_json(const nlohmann::json& j, const std::string& source);
+
+} // namespace tearflow::rom
