@@ -1,6 +1,7 @@
 // `tearflow study` end to end on a CI-sized study (tests/data/study: two variants of the
 // built-in dissection on a coarse mesh, 0D tuning, one cardiac cycle of 50 rigid-wall steps),
 // and a study killed during its simulation that, run again, finishes with the same results.
+#include <algorithm>
 #include <csignal>
 #include <fstream>
 #include <thread>
@@ -78,6 +79,15 @@ TEST(Study, BadStudyFileIsAClearError) {
     EXPECT_NE(n.output.find("other than '.' and '..' (it names a folder)"), std::string::npos)
         << n.output;
   }
+
+  // The reduced-order maps' ranges are checked with the file, before any stage.
+  std::string sweep = read_text(write_study(dir));
+  sweep.replace(sweep.find("\"40:240\""), 8, "\"240:40\"");
+  std::ofstream(file) << sweep;
+  const testing::Result s = testing::run_tearflow("study --check " + file.string());
+  EXPECT_EQ(s.code, 2) << s.output;
+  EXPECT_NE(s.output.find("rom_sweep.entry"), std::string::npos) << s.output;
+  EXPECT_NE(s.output.find("0 < MIN < MAX"), std::string::npos) << s.output;
 }
 
 // Issue 28: two studies on one output folder both ran, into the same files. The second is
@@ -111,6 +121,16 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
                              "run/analysis/metrics.json", "run/analysis/report.html"})
       EXPECT_TRUE(fs::exists(out / v / file)) << v << "/" << file;
   EXPECT_TRUE(fs::exists(out / "report.html"));
+  // The reduced-order model: calibrated on both variants' runs (their tears differ, so the
+  // size exponent is fitted), swept, its maps with both variants marked in the report.
+  const json calibration = read_json(out / "OR" / "geometry" / "rom" / "calibration.json");
+  EXPECT_EQ(calibration["rigid"]["runs"].size(), 2u);
+  EXPECT_NE(calibration["rigid"]["coefficients"]["tear_size_exponent"].get<double>(), 0.0);
+  const std::string sweep = read_text(out / "rom" / "sweep.csv");
+  EXPECT_EQ(std::count(sweep.begin(), sweep.end(), '\n'), 17); // the header, 4 x 4 variants
+  const std::string report = read_text(out / "report.html");
+  EXPECT_NE(report.find("Tear-size maps (reduced-order model)"), std::string::npos);
+  EXPECT_NE(report.find(">EN</text>"), std::string::npos);
   const json summary = read_json(out / "summary.json");
   // Every metric of each variant's analysis is in the summary as the analysis wrote it.
   for (const char* v : {"OR", "EN"}) {

@@ -1,5 +1,7 @@
 #include "report/report_command.hpp"
 
+#include <fstream>
+
 #include <fmt/format.h>
 
 #include "core/error.hpp"
@@ -31,6 +33,33 @@ void write_page(const std::string& html, const std::filesystem::path& page, bool
     fmt::print("wrote {} figures into '{}'\n", rendered.names.size(), figures.string());
 }
 
+/// The heat maps of a tear-size sweep (`rom sweep`, sweep.html between its markers) as a
+/// section of a page; InputError naming the file when it is missing or not a sweep page.
+std::string sweep_section(const std::filesystem::path& dir) {
+  const std::filesystem::path file = dir / "sweep.html";
+  std::ifstream in(file);
+  if (!in)
+    input_error("--rom-sweep: '{}' does not exist (write it with `tearflow rom sweep`)",
+                file.string());
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string begin = "<!-- tearflow-sweep-maps begin -->",
+                    end = "<!-- tearflow-sweep-maps end -->";
+  const auto b = text.find(begin), e = text.find(end);
+  if (b == std::string::npos || e == std::string::npos || e < b)
+    input_error("--rom-sweep: '{}' is not a page of `tearflow rom sweep` (no maps in it)",
+                file.string());
+  return "<section id='rom-sweep'><h2>Tear-size maps (reduced-order model)</h2>\n" +
+         text.substr(b + begin.size(), e - b - begin.size()) + "</section>\n";
+}
+
+/// The page with `section` before its end.
+std::string with_section(std::string html, const std::string& section) {
+  if (section.empty())
+    return html;
+  const auto end = html.rfind("</body>");
+  return end == std::string::npos ? html + section : html.insert(end, section);
+}
+
 } // namespace
 
 ReportCommand::ReportCommand(CLI::App& app) {
@@ -43,6 +72,9 @@ ReportCommand::ReportCommand(CLI::App& app) {
   command_->add_option("--mri", mri_,
                        "folder written by `tearflow mri compare`: adds the simulation-MRI "
                        "statistics, Bland-Altman plot and flow waveforms to every page");
+  command_->add_option("--rom-sweep", rom_sweep_,
+                       "folder written by `tearflow rom sweep`: adds its tear-size heat maps "
+                       "(docs/rom.md)");
   command_->add_flag("--png", png_,
                      "render in headless Chromium and save each figure as PNG (analysis/figures/)");
   command_->add_option("--chromium", chromium_, "the browser for --png (default chromium)");
@@ -52,10 +84,11 @@ ReportCommand::ReportCommand(CLI::App& app) {
 int ReportCommand::run() const {
   std::vector<nlohmann::json> runs;
   const nlohmann::json mri = mri_.empty() ? nlohmann::json() : report_mri_data(mri_);
+  const std::string sweep = rom_sweep_.empty() ? std::string() : sweep_section(rom_sweep_);
   for (const std::string& dir : run_dirs_) {
     const std::filesystem::path analysis = RunFiles{dir}.analysis_dir();
     runs.push_back(report_run_data(dir, analysis));
-    write_page(report_html({runs.back()}, mri), analysis / "report.html", png_,
+    write_page(with_section(report_html({runs.back()}, mri), sweep), analysis / "report.html", png_,
                analysis / "figures", chromium_, quiet_);
   }
   if (runs.size() > 1) {
@@ -63,7 +96,7 @@ int ReportCommand::run() const {
     std::filesystem::path figures = page;
     figures.replace_extension("");
     figures += "_figures";
-    write_page(report_html(runs, mri), page, png_, figures, chromium_, quiet_);
+    write_page(with_section(report_html(runs, mri), sweep), page, png_, figures, chromium_, quiet_);
   }
   return 0;
 }

@@ -1,6 +1,6 @@
 #pragma once
-// `tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--mri COMPARE_DIR] [--png]`: the command-line
-// edge of the report pages (report/report.hpp, docs/analysis.md).
+// `tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--mri COMPARE_DIR] [--rom-sweep DIR] [--png]`:
+// the command-line edge of the report pages (report/report.hpp, docs/analysis.md).
 #include <string>
 #include <vector>
 
@@ -18,7 +18,7 @@ public:
 private:
   CLI::App* command_ = nullptr;
   std::vector<std::string> run_dirs_;
-  std::string comparison_ = "comparison.html", chromium_ = "chromium", mri_;
+  std::string comparison_ = "comparison.html", chromium_ = "chromium", mri_, rom_sweep_;
   bool png_ = false, quiet_ = false;
 };
 

@@ -168,6 +168,18 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
   }
 
   // G(x, t) and its Jacobian K, added to `rhs` and `jacobian`.
+  // The mass matrix's entries, for M x without its zeros.
+  struct Entry {
+    int row, col;
+    double value;
+  };
+  std::vector<Entry> mass;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (w.mass(i, j) != 0.0)
+        mass.push_back({i, j, w.mass(i, j)});
+
+  // G(x, t), added to `rhs`.
   auto add_g = [&](const Eigen::VectorXd& x, double t) {
     w.rhs(inflow_node_) -= inflow_(t);
     for (int e = 0; e < n_edges; ++e) {
@@ -176,8 +188,25 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       const double q = x(row);
       const double c = q >= 0.0 ? convection_[e].forward : -convection_[e].backward;
       w.rhs(edge.from) += q, w.rhs(edge.to) -= q;
-      w.jacobian(edge.from, row) += 1.0, w.jacobian(edge.to, row) -= 1.0;
       w.rhs(row) += edge.resistance * q + c * q * q - x(edge.from) + x(edge.to);
+    }
+    for (size_t o = 0; o < outlets_.size(); ++o) {
+      const bc::WindkesselRCR& rcr = outlets_[o].rcr;
+      const int i = outlets_[o].node, d = capacitor_[o];
+      const OutletFlow f = outlet_flow(rcr, d >= 0, x(i), d >= 0 ? x(d) : 0.0);
+      w.rhs(i) += f.q;
+      if (d >= 0)
+        w.rhs(d) += -f.q + (x(d) - rcr.reference_pressure) / rcr.distal_resistance;
+    }
+  };
+  // Its Jacobian K = dG/dx, added to `jacobian`.
+  auto add_k = [&](const Eigen::VectorXd& x) {
+    for (int e = 0; e < n_edges; ++e) {
+      const NetworkEdge& edge = edges_[e];
+      const int row = n_nodes + e;
+      const double q = x(row);
+      const double c = q >= 0.0 ? convection_[e].forward : -convection_[e].backward;
+      w.jacobian(edge.from, row) += 1.0, w.jacobian(edge.to, row) -= 1.0;
       w.jacobian(row, row) += edge.resistance + 2.0 * c * q;
       w.jacobian(row, edge.from) -= 1.0, w.jacobian(row, edge.to) += 1.0;
     }
@@ -185,12 +214,10 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       const bc::WindkesselRCR& rcr = outlets_[o].rcr;
       const int i = outlets_[o].node, d = capacitor_[o];
       const OutletFlow f = outlet_flow(rcr, d >= 0, x(i), d >= 0 ? x(d) : 0.0);
-      w.rhs(i) += f.q;
       w.jacobian(i, i) += f.by_node;
       if (d < 0)
         continue;
       w.jacobian(i, d) += f.by_distal;
-      w.rhs(d) += -f.q + (x(d) - rcr.reference_pressure) / rcr.distal_resistance;
       w.jacobian(d, i) -= f.by_node;
       w.jacobian(d, d) += -f.by_distal + 1.0 / rcr.distal_resistance;
     }
@@ -202,7 +229,7 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
   for (int k = 0; k < 64; ++k)
     flow_scale = std::max(flow_scale, std::abs(inflow_(period * k / 64.0)));
   flow_scale = std::max(flow_scale, 1e-12);
-  const double pressure_scale = 1e4; // ~ 75 mmHg: what the updates are measured against
+  const double p_scale = 1e4; // ~ 75 mmHg: what the updates are measured against
 
   w.x.setZero();
   w.x.head(n_nodes).setConstant(start_pressure);
@@ -212,8 +239,11 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
 
   NetworkSolution s;
   const int every = opt.steps_per_cycle / opt.samples_per_cycle;
-  Eigen::VectorXd cycle_start = w.x;
-  bool first_step = true;
+  Eigen::VectorXd cycle_start = w.x, last_delta = Eigen::VectorXd::Zero(n);
+  bool extrapolated = false;
+  double last_rho = 0.0;
+  bool first_step = true, refactor = true;
+  double factored_for = 0.0; // the BDF coefficient of the factorized Jacobian
   for (int cycle = 0; cycle < opt.max_cycles; ++cycle) {
     s.time.clear(), s.pressure.clear(), s.flow.clear(), s.outflow.clear();
     for (int step = 0; step < opt.steps_per_cycle; ++step) {
@@ -238,23 +268,38 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       else
         w.rate = -2.0 * w.x + 0.5 * w.x_prev;
       w.x_prev = w.x;
+      // Newton with the factorization kept while it contracts fast (a chord method): the
+      // Jacobian changes only through the convective terms, slowly over a step.
+      if (a != factored_for)
+        refactor = true, factored_for = a;
       bool converged = false;
-      for (int it = 0; it < 30 && !converged; ++it) {
+      double previous = 0.0;
+      for (int it = 0; it < 40 && !converged; ++it) {
         w.tmp = (a * w.x + w.rate) / dt;
-        w.rhs.noalias() = w.mass * w.tmp;
-        w.jacobian = (a / dt) * w.mass;
+        w.rhs.setZero();
+        for (const Entry& m : mass)
+          w.rhs(m.row) += m.value * w.tmp(m.col);
         add_g(w.x, t);
-        w.lu.compute(w.jacobian);
+        if (refactor) {
+          w.jacobian = (a / dt) * w.mass;
+          add_k(w.x);
+          w.lu.compute(w.jacobian);
+          refactor = false;
+          ++s.factorizations;
+        }
         w.dx = w.lu.solve(w.rhs);
         w.x -= w.dx;
-        const Eigen::VectorXd& dx = w.dx;
         ++s.newton_iterations;
-        converged = dx.head(n_nodes).cwiseAbs().maxCoeff() <= opt.newton_tolerance * pressure_scale;
+        double size = w.dx.head(n_nodes).cwiseAbs().maxCoeff() / (opt.newton_tolerance * p_scale);
         if (n_edges > 0)
-          converged = converged && dx.segment(n_nodes, n_edges).cwiseAbs().maxCoeff() <=
-                                       opt.newton_tolerance * flow_scale;
+          size = std::max(size, w.dx.segment(n_nodes, n_edges).cwiseAbs().maxCoeff() /
+                                    (opt.newton_tolerance * flow_scale));
+        converged = size <= 1.0;
         if (!w.x.allFinite())
           break;
+        if (!converged && it > 0 && size > 0.1 * previous)
+          refactor = true; // contracting slowly: the factorization is stale
+        previous = size;
       }
       if (!converged || !w.x.allFinite())
         throw SolverError(fmt::format("reduced-order network: Newton did not converge at "
@@ -268,9 +313,23 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       if (i < n_nodes || i >= n_nodes + n_edges)
         change = std::max(change, std::abs(w.x(i) - cycle_start(i)));
     s.last_change = change;
-    cycle_start = w.x;
     if (cycle > 0 && change <= opt.pressure_tolerance)
       return s;
+    // The slowest mode (the capacitors draining through the outlets) decays by a factor rho
+    // per cycle: with the cycle's change d_k = rho d_{k-1}, the state it tends to is
+    // x + rho / (1 - rho) d_k (Aitken's extrapolation of the geometric series). Applied when
+    // two successive ratios agree within 10 % (the faster modes have died out); the next
+    // step restarts BDF2 by backward Euler.
+    w.tmp = w.x - cycle_start;
+    const double rho = cycle > 0 ? w.tmp.dot(last_delta) / last_delta.squaredNorm() : 0.0;
+    if (!extrapolated && rho > 0.05 && rho < 0.95 && std::abs(rho - last_rho) < 0.1 * rho) {
+      w.x += (rho / (1.0 - rho)) * w.tmp;
+      first_step = true, extrapolated = true;
+    } else
+      extrapolated = false;
+    last_rho = rho;
+    last_delta = w.tmp;
+    cycle_start = w.x;
   }
   throw SolverError(fmt::format("reduced-order network: not periodic after {} cycles (the "
                                 "pressures still change by {:.3g} Pa per cycle)",

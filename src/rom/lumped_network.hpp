@@ -18,9 +18,10 @@
 // R_p + R_d to P_ref.
 //
 // Time: BDF2 (the first step backward Euler) with Newton on the dense Jacobian; the network
-// is small (tens of unknowns). BDF2 also handles rigid networks (no node compliance), where
-// the node pressures are algebraic. Cycles repeat until the state at the cycle's start
-// changes by less than the tolerances.
+// is small (tens of unknowns), and the factorization is kept over iterations and steps while
+// the iteration contracts by 10 per iteration (a chord method). BDF2 also handles rigid networks
+// (no node compliance), where the node pressures are algebraic. Cycles repeat until the state at
+// the cycle's start changes by less than the tolerances.
 #include <string>
 #include <vector>
 
@@ -69,6 +70,7 @@ struct NetworkSolution {
   int cycles = 0;                                           ///< cycles integrated
   double last_change = 0.0;  ///< largest pressure change between the last two cycle starts [Pa]
   int newton_iterations = 0; ///< in all
+  int factorizations = 0;    ///< of the Jacobian, in all (it is kept while it contracts)
 };
 
 struct IntegrationOptions {

@@ -104,6 +104,10 @@ std::vector<StudyRunner::Stage> StudyRunner::stages() const {
       out.push_back({&v, "rigid_analyze"});
     }
   }
+  if (spec_.rom_sweep) {
+    out.push_back({nullptr, "rom_calibrate"});
+    out.push_back({nullptr, "rom_sweep"});
+  }
   out.push_back({nullptr, "report"});
   return out;
 }
@@ -113,6 +117,9 @@ std::string StudyRunner::stage_fingerprint(const Stage& s) const {
     return fingerprint(spec_, *s.variant);
   // (compare_rigid adds stages and runs to the report, and changes no variant's other stages)
   std::string all = std::string(spec_.png ? "png" : "") + (spec_.compare_rigid ? "rigid" : "");
+  if (spec_.rom_sweep)
+    all += fmt::format("rom{}/{}/{}", spec_.rom_sweep->entry, spec_.rom_sweep->exit,
+                       spec_.rom_sweep->steps);
   for (const Variant& v : spec_.variants)
     all += fingerprint(spec_, v);
   return all;
@@ -200,6 +207,8 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
     parallel = words(launcher);
   }
   parallel.push_back(self);
+  if (s.variant == nullptr && s.name != "report")
+    return rom_command(s.name);
   if (s.variant == nullptr) {
     std::vector<std::string> argv{self, "report"};
     for (const Variant& v : spec_.variants)
@@ -208,6 +217,8 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
       for (const Variant& v : spec_.variants)
         argv.push_back((dir(v) / "rigid").string());
     argv.insert(argv.end(), {"-o", (spec_.output / "report.html").string()});
+    if (spec_.rom_sweep)
+      argv.insert(argv.end(), {"--rom-sweep", (spec_.output / "rom").string()});
     if (spec_.png)
       argv.push_back("--png");
     return argv;
@@ -256,9 +267,56 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
           ran.string()};
 }
 
+std::vector<std::string> StudyRunner::rom_command(const std::string& stage) const {
+  // The first variant's model is the reduced-order model's geometry; the other variants are
+  // its tear-size variants (their own models give their tears' areas).
+  const Variant& first = spec_.variants.front();
+  const std::string model = geometry_dir(first).string();
+  if (stage == "rom_calibrate") {
+    std::vector<std::string> argv{tearflow_.string(), "rom", "calibrate", model};
+    for (const Variant& v : spec_.variants) {
+      argv.insert(argv.end(), {"--run", (dir(v) / "run").string(), "--case", ran_case(v).string(),
+                               "--run-model", geometry_dir(v).string()});
+      if (spec_.compare_rigid)
+        argv.insert(argv.end(),
+                    {"--run", (dir(v) / "rigid").string(), "--case",
+                     (dir(v) / "rigid.yaml").string(), "--run-model", geometry_dir(v).string()});
+    }
+    return argv;
+  }
+  std::vector<std::string> argv{tearflow_.string(),
+                                "rom",
+                                "sweep",
+                                model,
+                                "--case",
+                                ran_case(first).string(),
+                                "--entry",
+                                spec_.rom_sweep->entry,
+                                "--exit",
+                                spec_.rom_sweep->exit,
+                                "--steps",
+                                std::to_string(spec_.rom_sweep->steps),
+                                "-o",
+                                (spec_.output / "rom").string()};
+  for (const Variant& v : spec_.variants) { // the 3D variants marked on the maps
+    const geometry::Landmarks lm =
+        geometry::read_landmarks(GeometryFiles{geometry_dir(v)}.landmarks());
+    double entry = 0, exit = 0;
+    for (const geometry::TearLandmark& t : lm.tears) {
+      if (t.name == "entry")
+        entry = t.area * 1e6; // mm^2
+      if (t.name == "exit")
+        exit = t.area * 1e6;
+    }
+    if (entry > 0 && exit > 0)
+      argv.insert(argv.end(), {"--mark", fmt::format("{}={:.6g}:{:.6g}", v.name, entry, exit)});
+  }
+  return argv;
+}
+
 int StudyRunner::execute(const Stage& s, const std::vector<std::string>& argv) {
   const std::string label =
-      s.variant ? fmt::format("[{} {}] ", s.variant->name, s.name) : "[report] ";
+      s.variant ? fmt::format("[{} {}] ", s.variant->name, s.name) : fmt::format("[{}] ", s.name);
   std::ofstream log(spec_.output / "study.log", std::ios::app);
   std::string line_of_command;
   for (const std::string& a : argv)

@@ -49,6 +49,8 @@ private:
   /// rigid.yaml: the case its compliant run ended with (tuned outlets), without the wall.
   void write_rigid_case(const Variant& v) const;
   std::vector<std::string> command(const Stage& s) const;
+  /// The reduced-order model's stages (rom_calibrate, rom_sweep) after the variants.
+  std::vector<std::string> rom_command(const std::string& stage) const;
   /// Runs a child; returns its exit code. `stage` labels the lines.
   int execute(const Stage& s, const std::vector<std::string>& argv);
   void write_summary() const;

@@ -1,6 +1,7 @@
 #include "study/study_spec.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -88,7 +89,7 @@ StudySpec load_study(const std::filesystem::path& file,
   const YAML::Node root_node = io::parse_yaml_file(file);
   const io::YamlValue root(file.string(), root_node);
   root.check_keys({"name", "case", "output", "ranks", "launcher", "time", "geometry", "tuning",
-                   "png", "compare_rigid", "variants"});
+                   "png", "compare_rigid", "rom_sweep", "variants"});
   s.name = root.has("name") ? root.require("name", "").text() : file.stem().string();
   if (!is_folder_name(s.name))
     root.require("name", "")
@@ -121,6 +122,23 @@ StudySpec load_study(const std::filesystem::path& file,
     s.compare_rigid = rigid->choice({"true", "false"}) == "true";
     if (s.compare_rigid && !io::parse_yaml_file(s.case_file)["solid"])
       rigid->fail("the case has rigid walls already (no `solid` section): nothing to compare");
+  }
+  if (const auto rom = root.get("rom_sweep")) {
+    rom->check_keys({"entry", "exit", "steps"});
+    StudySpec::RomSweep r;
+    for (const char* key : {"entry", "exit"}) {
+      const io::YamlValue v = rom->require(key, "tear areas MIN:MAX in mm^2, e.g. 30:300");
+      const std::string text = v.text();
+      const auto colon = text.find(':');
+      double lo = 0, hi = 0;
+      if (colon == std::string::npos || std::sscanf(text.c_str(), "%lf:%lf", &lo, &hi) != 2 ||
+          !(lo > 0 && hi > lo))
+        v.fail_expected("tear areas MIN:MAX in mm^2 with 0 < MIN < MAX, e.g. 30:300");
+      (std::string(key) == "entry" ? r.entry : r.exit) = text;
+    }
+    if (const auto steps = rom->get("steps"))
+      r.steps = steps->integer(2);
+    s.rom_sweep = r;
   }
   std::map<std::string, std::string> geometry_defaults;
   if (const auto g = root.get("geometry"))

@@ -37,6 +37,14 @@ struct StudySpec {
   /// Each variant of a compliant study also runs with rigid walls and the outlets its
   /// compliant run ended with, and the report overlays both (docs/study.md).
   bool compare_rigid = false;
+  /// The reduced-order model's tear-size maps (docs/rom.md): after the variants, `rom
+  /// calibrate` on every analysed run and `rom sweep` of the first variant's model over these
+  /// ranges [mm^2, "MIN:MAX"], shown in the report; empty: none.
+  struct RomSweep {
+    std::string entry, exit;
+    int steps = 20;
+  };
+  std::optional<RomSweep> rom_sweep;
   std::vector<Variant> variants;
 };
 
