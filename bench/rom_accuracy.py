@@ -48,7 +48,6 @@ def main():
                 for v in calibrated_on:
                     cmd += ["--run", os.path.join(study, v, kind), "--case", case_of(study, v, kind),
                             "--run-model", os.path.join(study, v, "geometry")]
-                shutil.rmtree(os.path.join(model, "rom", "calibration.json"), ignore_errors=True)
                 if os.path.exists(os.path.join(model, "rom", "calibration.json")):
                     os.remove(os.path.join(model, "rom", "calibration.json"))
                 subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
@@ -58,7 +57,7 @@ def main():
                     pred = os.path.join(tmp, f"{kind}-{'-'.join(calibrated_on)}-{v}")
                     subprocess.run([BIN, "rom", "predict", "-q", model, "--case",
                                     case_of(study, v, kind), *AREA[v], "-o", pred], check=True)
-                    fr, dp = stations(os.path.join(pred, "metrics.json"))
+                    fr, dp = stations(os.path.join(pred, "analysis", "metrics.json"))
                     fr3, dp3 = stations(os.path.join(study, v, kind, "analysis", "metrics.json"))
                     fr_err = max(abs(a - b) for a, b in zip(fr, fr3))
                     dp_ok = all(abs(a - b) <= max(3.0, 0.2 * abs(b)) for a, b in zip(dp, dp3))

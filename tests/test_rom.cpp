@@ -105,7 +105,8 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
         << name;
   // The segments' volumes add up to the fluid's: the sampled sections (five per segment, the
   // branches as cylinders of their caps' area) miss the ostia, the flap's tapered ends and the
-  // blind ends of the false lumen beyond its tears; within 10 %.
+  // blind ends of the false lumen beyond its tears, each a few % of the volume, partly
+  // cancelling (0.995 measured at 4.5 mm): within 5 %.
   double segments = 0.0, fluid = 0.0;
   for (const rom::GeometrySegment& s : g.segments)
     segments += s.volume;
@@ -116,7 +117,7 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
       fluid += mesh::signed_volume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]],
                                    mesh.points[k[3]]);
     }
-  EXPECT_NEAR(segments / fluid, 1.0, 0.10) << segments << " vs " << fluid;
+  EXPECT_NEAR(segments / fluid, 1.0, 0.05) << segments << " vs " << fluid;
   std::printf("wall thickness %.3f mm, segment volumes / fluid volume %.3f\n",
               g.wall_thickness * 1e3, segments / fluid);
   // The arch's centreline is longer than its chord (AAo to DAo_prox) and shorter than a
@@ -142,7 +143,7 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
                    (dir / "or").string());
   ASSERT_EQ(r.code, 0) << r.output;
   const Stations or3d = stored_stations("OR", g, or_case);
-  const Stations or0d = predicted_stations(dir / "or" / "metrics.json");
+  const Stations or0d = predicted_stations(dir / "or" / "analysis" / "metrics.json");
   for (int k = 0; k < 5; ++k) {
     // The fit's own residual: its weighted rms is ~1 (1 mmHg, 0.5 point).
     EXPECT_NEAR(or0d.fr[k], or3d.fr[k], 1.0) << "station " << k + 1;
@@ -159,7 +160,7 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
                    " --entry-tear-area 62 -o " + (dir / "en").string());
   ASSERT_EQ(r.code, 0) << r.output;
   const Stations en3d = stored_stations("EN", g, en_case);
-  const Stations en0d = predicted_stations(dir / "en" / "metrics.json");
+  const Stations en0d = predicted_stations(dir / "en" / "analysis" / "metrics.json");
   for (int k = 0; k < 5; ++k)
     std::printf("EN station %d: FR_FL %.1f (3D %.1f) %%, dP %.1f (3D %.1f) mmHg\n", k + 1,
                 en0d.fr[k], en3d.fr[k], en0d.dp[k], en3d.dp[k]);
@@ -171,6 +172,11 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
     const double bound = k < 4 ? std::max(3.0, 0.2 * std::abs(en3d.dp[k])) : 5.0;
     EXPECT_NEAR(en0d.dp[k], en3d.dp[k], bound) << "station " << k + 1;
   }
+
+  // The prediction is a run's folder to `report`: its page has the headline table.
+  r = run_tearflow("report -q " + (dir / "en").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "en" / "analysis" / "report.html"));
 
   // --- the sweep ----------------------------------------------------------------------------
   r = run_tearflow("rom sweep " + model.string() + " --case " + or_case.string() +

@@ -146,13 +146,15 @@ int RomCommand::predict() const {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::filesystem::path out =
       output_.empty() ? model / "rom" / "predict" : std::filesystem::path(output_);
-  std::filesystem::create_directories(out);
-  analysis::write_analysis(p.analysis, out);
+  // As a run's folder: OUT/analysis/ holds what `analyze` writes, so `report OUT RUN...`
+  // shows the prediction beside 3D runs.
+  std::filesystem::create_directories(RunFiles{out}.analysis_dir());
+  analysis::write_analysis(p.analysis, RunFiles{out}.analysis_dir());
   if (!quiet_) {
     fmt::print("reduced-order model ({} walls): periodic after {} cycles ({:.3f} s)\n",
                in.wall ? "compliant" : "rigid", p.solution.cycles, seconds);
     print_summary(p.analysis);
-    fmt::print("wrote {}\n", (out / RunFiles::kMetrics).string());
+    fmt::print("wrote {}\n", RunFiles{out}.metrics_json().string());
   }
   return 0;
 }
