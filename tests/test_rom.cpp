@@ -232,6 +232,12 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
   fails_with("rom calibrate " + model.string() + " --run " + dir.string() + " --case " +
                  or_case.string(),
              "analysis/inlet.csv: cannot read");
+  fails_with("rom calibrate " + model.string() + " --run " + (kData / "OR-rigid").string() +
+                 " --case " + or_case.string() + " --fit flap",
+             "nothing to fit"); // the flap is not seen by rigid runs
+  fails_with("rom calibrate " + model.string() + " --run " + (kData / "OR-rigid").string() +
+                 " --case " + or_case.string() + " --fit flaps",
+             "--fit");
   fails_with("rom predict " + (dir / "nowhere").string() + " --case " + or_case.string(),
              "mesh.msh: cannot read");
   fs::remove_all(dir);

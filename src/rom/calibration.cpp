@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <set>
 #include <sstream>
 
 #include <Eigen/Dense>
@@ -92,40 +94,66 @@ int station_count(const CalibrationRun& run) {
   return k;
 }
 
-/// The fitted coefficients as log parameters: alpha, K_arch, each tear's K_t, beta (walls).
+/// The fitted coefficients: each a reference into the coefficients, fitted in its logarithm
+/// (positive ones, from at least `floor`) or as is (gamma).
+struct Parameter {
+  std::string name;
+  std::function<double&(RomCoefficients&)> ref;
+  bool logarithmic = true;
+  double floor = 0.0;
+};
+
 struct Layout {
-  std::vector<std::string> tears;
-  bool compliant = false;
-  bool sizes = false; ///< the runs hold a tear at two sizes: gamma is fitted (not in log)
-  int size() const {
-    return 3 + static_cast<int>(tears.size()) + (compliant ? 1 : 0) + (sizes ? 1 : 0);
-  }
+  std::vector<Parameter> parameters;
+  RomCoefficients base; ///< what is not fitted
+  int size() const { return static_cast<int>(parameters.size()); }
   RomCoefficients coefficients(const Eigen::VectorXd& x) const {
-    RomCoefficients k;
-    k.viscous = std::exp(x(0));
-    k.arch_loss = std::exp(x(1));
-    k.friction = std::exp(x(2));
-    for (size_t t = 0; t < tears.size(); ++t)
-      k.tear[tears[t]] = std::exp(x(3 + t));
-    if (compliant)
-      k.flap = std::exp(x(3 + tears.size()));
-    if (sizes)
-      k.tear_size_exponent = x(size() - 1);
+    RomCoefficients k = base;
+    for (int i = 0; i < size(); ++i)
+      parameters[i].ref(k) = parameters[i].logarithmic ? std::exp(x(i)) : x(i);
     return k;
   }
-  Eigen::VectorXd x(const RomCoefficients& k) const {
+  Eigen::VectorXd x(RomCoefficients k) const {
     Eigen::VectorXd x(size());
-    x(0) = std::log(k.viscous), x(1) = std::log(std::max(k.arch_loss, 0.05));
-    x(2) = std::log(std::max(k.friction, 0.01));
-    for (size_t t = 0; t < tears.size(); ++t)
-      x(3 + t) = std::log(k.tear_coefficient(tears[t]));
-    if (compliant)
-      x(3 + tears.size()) = std::log(k.flap);
-    if (sizes)
-      x(size() - 1) = k.tear_size_exponent;
+    for (int i = 0; i < size(); ++i) {
+      const Parameter& p = parameters[i];
+      x(i) = p.logarithmic ? std::log(std::max(p.ref(k), p.floor)) : p.ref(k);
+    }
     return x;
   }
 };
+
+/// The parameters a fit varies: those of `fit` (names as in calibration.json's keys, short:
+/// viscous, friction, arch, tears, flap, size) that apply (flap: compliant walls; size: runs
+/// of two sizes of a tear).
+Layout layout(const std::set<std::string>& fit, const DissectionGeometry& g, bool compliant,
+              bool sizes) {
+  Layout l;
+  auto wanted = [&](const char* name) { return fit.empty() || fit.count(name) > 0; };
+  if (wanted("viscous"))
+    l.parameters.push_back({"viscous", [](RomCoefficients& k) -> double& { return k.viscous; }});
+  if (wanted("arch")) {
+    l.base.arch_loss = 1.0; // the start: 0 has no logarithm
+    l.parameters.push_back(
+        {"arch", [](RomCoefficients& k) -> double& { return k.arch_loss; }, true, 0.05});
+  }
+  if (wanted("friction"))
+    l.parameters.push_back(
+        {"friction", [](RomCoefficients& k) -> double& { return k.friction; }, true, 0.01});
+  if (wanted("tears"))
+    for (const GeometryTear& t : g.tears) {
+      l.base.tear[t.name] = l.base.tear_loss;
+      const std::string name = t.name;
+      l.parameters.push_back(
+          {"tear " + name, [name](RomCoefficients& k) -> double& { return k.tear[name]; }});
+    }
+  if (compliant && wanted("flap"))
+    l.parameters.push_back({"flap", [](RomCoefficients& k) -> double& { return k.flap; }});
+  if (sizes && wanted("size"))
+    l.parameters.push_back(
+        {"size", [](RomCoefficients& k) -> double& { return k.tear_size_exponent; }, false});
+  return l;
+}
 
 struct Objective {
   using Scalar = double;
@@ -239,7 +267,8 @@ std::vector<double> misfit(const analysis::Analysis& a, const CalibrationRun& ru
 
 Calibration calibrate_model(const DissectionGeometry& g, const geometry::Landmarks& landmarks,
                             const std::vector<CalibrationRun>& runs,
-                            const IntegrationOptions& options, bool progress) {
+                            const IntegrationOptions& options, bool progress,
+                            const std::set<std::string>& fit) {
   Calibration out;
   for (const bool compliant : {false, true}) {
     Objective obj;
@@ -249,16 +278,17 @@ Calibration calibrate_model(const DissectionGeometry& g, const geometry::Landmar
         obj.runs.push_back(&r);
     if (obj.runs.empty())
       continue;
-    for (const GeometryTear& t : g.tears)
-      obj.layout.tears.push_back(t.name);
-    obj.layout.compliant = compliant;
+    bool sizes = false;
     for (const CalibrationRun* r : obj.runs)
-      obj.layout.sizes = obj.layout.sizes || !r->tear_areas.empty();
+      sizes = sizes || !r->tear_areas.empty();
+    obj.layout = layout(fit, g, compliant, sizes);
+    if (obj.layout.size() == 0)
+      input_error("rom calibrate: nothing to fit (--fit names none of viscous, arch, friction, "
+                  "tears, flap, size that apply)");
     int evaluations = 0;
     obj.evaluations = &evaluations;
-    RomCoefficients start;
-    start.arch_loss = 1.0;
-    Eigen::VectorXd x = obj.layout.x(start);
+    Eigen::VectorXd x = obj.layout.x(obj.layout.base); // the start: the defaults, floored
+    const RomCoefficients start = obj.layout.coefficients(x);
     Eigen::VectorXd f;
     obj.values_ = 0;
     for (const CalibrationRun* r : obj.runs) // the residual count of each run
@@ -266,9 +296,9 @@ Calibration calibrate_model(const DissectionGeometry& g, const geometry::Landmar
           misfit(predict(g, r->inputs, start, landmarks, r->tear_areas, options).analysis, *r)
               .size());
     obj(x, f);
-    CalibrationFit fit;
-    fit.compliant = compliant;
-    fit.rms_before = std::sqrt(f.squaredNorm() / f.size());
+    CalibrationFit result;
+    result.compliant = compliant;
+    result.rms_before = std::sqrt(f.squaredNorm() / f.size());
     Eigen::NumericalDiff<Objective> functor(obj);
     Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Objective>> lm(functor);
     lm.parameters.xtol = 1e-4; // 0.01 % in each coefficient: far below what the runs resolve
@@ -276,18 +306,18 @@ Calibration calibrate_model(const DissectionGeometry& g, const geometry::Landmar
     lm.parameters.maxfev = 60 * obj.layout.size();
     lm.minimize(x);
     obj(x, f);
-    fit.coefficients = obj.layout.coefficients(x);
-    fit.rms_after = std::sqrt(f.squaredNorm() / f.size());
-    fit.evaluations = evaluations;
+    result.coefficients = obj.layout.coefficients(x);
+    result.rms_after = std::sqrt(f.squaredNorm() / f.size());
+    result.evaluations = evaluations;
     for (const CalibrationRun* r : obj.runs)
-      fit.runs.push_back(r->name);
+      result.runs.push_back(r->name);
     if (progress) {
       fmt::print("{} walls, {} run(s): weighted rms misfit {:.2f} -> {:.2f} ({} evaluations)\n",
-                 compliant ? "compliant" : "rigid", obj.runs.size(), fit.rms_before, fit.rms_after,
-                 evaluations);
-      fmt::print("  {}\n", to_json(fit.coefficients).dump());
+                 compliant ? "compliant" : "rigid", obj.runs.size(), result.rms_before,
+                 result.rms_after, evaluations);
+      fmt::print("  {}\n", to_json(result.coefficients).dump());
     }
-    (compliant ? out.compliant : out.rigid) = fit;
+    (compliant ? out.compliant : out.rigid) = result;
   }
   return out;
 }

@@ -14,6 +14,7 @@
 // wall); calibration.json in MODEL/rom holds both, each with the runs and residuals.
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -58,9 +59,12 @@ struct Calibration {
 };
 
 /// Fits each wall model's coefficients to its runs (file comment); `progress` prints them.
+/// `fit`, when not empty, names the coefficients to fit (viscous, arch, friction, tears, flap,
+/// size); the others keep their defaults.
 Calibration calibrate_model(const DissectionGeometry& g, const geometry::Landmarks& landmarks,
                             const std::vector<CalibrationRun>& runs,
-                            const IntegrationOptions& options, bool progress);
+                            const IntegrationOptions& options, bool progress,
+                            const std::set<std::string>& fit = {});
 
 /// Writes MODEL/rom/calibration.json, keeping a wall model's earlier fit that this one lacks.
 void save_calibration(const std::filesystem::path& model_dir, const Calibration& c);

@@ -92,6 +92,12 @@ RomCommand::RomCommand(CLI::App& app) {
       ->required();
   calibrate_->add_option("--case", cases_,
                          "the case of each --run, in order (default: RUN/tuned.yaml)");
+  calibrate_
+      ->add_option("--fit", fit_,
+                   "the coefficients to fit (default all that apply): viscous, arch, friction, "
+                   "tears, flap, size")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"viscous", "arch", "friction", "tears", "flap", "size"}));
   calibrate_->add_option("--run-model", run_models_,
                          "the model directory of each --run, in order, when a run is of another "
                          "tear-size variant (its tears' areas are used)");
@@ -181,7 +187,8 @@ int RomCommand::calibrate() const {
   IntegrationOptions opt;
   opt.steps_per_cycle = steps_per_cycle_;
   opt.samples_per_cycle = steps_per_cycle_ % 100 == 0 ? 100 : steps_per_cycle_;
-  const Calibration cal = calibrate_model(g, landmarks, runs, opt, !quiet_);
+  const Calibration cal = calibrate_model(g, landmarks, runs, opt, !quiet_,
+                                          std::set<std::string>(fit_.begin(), fit_.end()));
   save_calibration(model, cal);
   return 0;
 }

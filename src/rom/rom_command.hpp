@@ -24,7 +24,7 @@ private:
   int sweep() const;
   CLI::App *command_ = nullptr, *predict_ = nullptr, *calibrate_ = nullptr, *sweep_ = nullptr;
   std::string model_dir_, case_file_, output_, coefficients_file_;
-  std::vector<std::string> runs_, cases_, run_models_, tear_areas_, marks_;
+  std::vector<std::string> runs_, cases_, run_models_, tear_areas_, marks_, fit_;
   double entry_area_ = 0.0, exit_area_ = 0.0, wall_thickness_ = 0.0;
   std::string entry_range_, exit_range_;
   int steps_ = 20, steps_per_cycle_ = 400;
