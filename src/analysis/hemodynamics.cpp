@@ -53,11 +53,6 @@ double integral(const std::vector<double>& t, const std::vector<double>& f) {
   return sum;
 }
 
-/// Time mean over the frames; a single frame is its own mean.
-double time_mean(const std::vector<double>& t, const std::vector<double>& f) {
-  return t.size() < 2 ? f.front() : integral(t, f) / (t.back() - t.front());
-}
-
 json pressure_json(const std::string& stem, double p) {
   return {{stem + "_Pa", p}, {stem + "_mmHg", p / units::mmHg}};
 }
@@ -122,6 +117,10 @@ json achieved_json(const json& cycle) {
 }
 
 } // namespace
+
+double time_mean(const std::vector<double>& t, const std::vector<double>& f) {
+  return t.size() < 2 ? f.front() : integral(t, f) / (t.back() - t.front());
+}
 
 const LandmarkSeries* Analysis::find(const std::string& name) const {
   for (const LandmarkSeries& s : series)

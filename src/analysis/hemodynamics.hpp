@@ -71,6 +71,10 @@ std::vector<FlowFrame> select_frames(const AnalyzeOptions& options, std::string&
 /// measurement tables instead of a run is read by read_measured (analysis/measured_data.hpp).
 Analysis analyze_run(const AnalyzeOptions& options);
 
+/// The time mean of f over the frames t by the trapezoidal rule (as cycles.json's); a single
+/// frame is its own mean.
+double time_mean(const std::vector<double>& t, const std::vector<double>& f);
+
 /// Sets peak systole (largest flow through `inlet`, else through the first landmark with a
 /// measured flow) and end diastole (the first frame).
 void mark_cycle_events(Analysis& analysis);

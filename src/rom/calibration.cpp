@@ -80,13 +80,6 @@ double interpolate(const std::vector<double>& t, const std::vector<double>& v, d
   return (1.0 - f) * v[k - 1] + f * v[k];
 }
 
-double mean(const std::vector<double>& t, const std::vector<double>& v) {
-  double s = 0.0;
-  for (size_t k = 1; k < t.size(); ++k)
-    s += 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
-  return s / (t.back() - t.front());
-}
-
 int station_count(const CalibrationRun& run) {
   int k = 0;
   while (run.flow.count(fmt::format("TL{}", k + 1)) && run.flow.count(fmt::format("FL{}", k + 1)))
@@ -257,8 +250,10 @@ std::vector<double> misfit(const analysis::Analysis& a, const CalibrationRun& ru
   pressure_difference("inlet", "DAo_prox");
   for (int k = 1; k <= stations; ++k) {
     const std::string tl = fmt::format("TL{}", k), fl = fmt::format("FL{}", k);
-    const double q_tl = mean(a.time, series(tl, false)), q_fl = mean(a.time, series(fl, false));
-    const double m_tl = mean(run.time, run.flow.at(tl)), m_fl = mean(run.time, run.flow.at(fl));
+    const double q_tl = analysis::time_mean(a.time, series(tl, false)),
+                 q_fl = analysis::time_mean(a.time, series(fl, false));
+    const double m_tl = analysis::time_mean(run.time, run.flow.at(tl)),
+                 m_fl = analysis::time_mean(run.time, run.flow.at(fl));
     const double fr = 100.0 * q_fl / (q_fl + q_tl), fr3 = 100.0 * m_fl / (m_fl + m_tl);
     r.push_back((fr - fr3) / 0.5);
   }

@@ -66,7 +66,24 @@ std::map<std::string, double> tear_areas(const DissectionGeometry& g, double ent
   return out;
 }
 
+/// Integration with `steps` per cycle, sampled 100 times per cycle when that divides it.
+IntegrationOptions integration(int steps) {
+  IntegrationOptions opt;
+  opt.steps_per_cycle = steps;
+  opt.samples_per_cycle = steps % 100 == 0 ? 100 : steps;
+  return opt;
+}
+
 } // namespace
+
+RomCommand::Model RomCommand::model() const {
+  Model m;
+  m.dir = model_dir_;
+  m.geometry = model_geometry(m.dir, !quiet_);
+  m.inputs = rom_inputs(io::load_case(case_file_), m.geometry, wall_thickness_ * 1e-3);
+  m.coefficients = load_coefficients(m.dir, coefficients_file_, m.inputs.wall.has_value(), !quiet_);
+  return m;
+}
 
 RomCommand::RomCommand(CLI::App& app) {
   command_ = app.add_subcommand(
@@ -135,30 +152,24 @@ int RomCommand::run() const {
 }
 
 int RomCommand::predict() const {
-  const std::filesystem::path model(model_dir_);
-  const DissectionGeometry g = model_geometry(model, !quiet_);
-  const io::Case c = io::load_case(case_file_);
-  const RomInputs in = rom_inputs(c, g, wall_thickness_ * 1e-3);
-  const RomCoefficients k =
-      load_coefficients(model, coefficients_file_, in.wall.has_value(), !quiet_);
-  const std::map<std::string, double> areas = tear_areas(g, entry_area_, exit_area_, tear_areas_);
-  IntegrationOptions opt;
-  opt.steps_per_cycle = steps_per_cycle_;
-  opt.samples_per_cycle = steps_per_cycle_ % 100 == 0 ? 100 : steps_per_cycle_;
+  const Model m = model();
+  const std::map<std::string, double> areas =
+      tear_areas(m.geometry, entry_area_, exit_area_, tear_areas_);
   const auto start = std::chrono::steady_clock::now();
-  const Prediction p = rom::predict(
-      g, in, k, geometry::read_landmarks(GeometryFiles{model}.landmarks()), areas, opt);
+  const Prediction p = rom::predict(m.geometry, m.inputs, m.coefficients,
+                                    geometry::read_landmarks(GeometryFiles{m.dir}.landmarks()),
+                                    areas, integration(steps_per_cycle_));
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::filesystem::path out =
-      output_.empty() ? model / "rom" / "predict" : std::filesystem::path(output_);
+      output_.empty() ? m.dir / "rom" / "predict" : std::filesystem::path(output_);
   // As a run's folder: OUT/analysis/ holds what `analyze` writes, so `report OUT RUN...`
   // shows the prediction beside 3D runs.
   std::filesystem::create_directories(RunFiles{out}.analysis_dir());
   analysis::write_analysis(p.analysis, RunFiles{out}.analysis_dir());
   if (!quiet_) {
     fmt::print("reduced-order model ({} walls): periodic after {} cycles ({:.3f} s)\n",
-               in.wall ? "compliant" : "rigid", p.solution.cycles, seconds);
+               m.inputs.wall ? "compliant" : "rigid", p.solution.cycles, seconds);
     print_summary(p.analysis);
     fmt::print("wrote {}\n", RunFiles{out}.metrics_json().string());
   }
@@ -166,12 +177,12 @@ int RomCommand::predict() const {
 }
 
 int RomCommand::calibrate() const {
-  const std::filesystem::path model(model_dir_);
+  const std::filesystem::path model_dir(model_dir_);
   if (cases_.size() > runs_.size() || run_models_.size() > runs_.size())
     input_error("rom calibrate: {} --case and {} --run-model for {} --run", cases_.size(),
                 run_models_.size(), runs_.size());
   std::vector<CalibrationRun> runs;
-  const DissectionGeometry g = model_geometry(model, !quiet_);
+  const DissectionGeometry g = model_geometry(model_dir, !quiet_);
   for (size_t r = 0; r < runs_.size(); ++r) {
     const std::filesystem::path dir(runs_[r]);
     const std::filesystem::path case_file =
@@ -183,28 +194,21 @@ int RomCommand::calibrate() const {
         dir, io::load_case(case_file), g, wall_thickness_ * 1e-3,
         r < run_models_.size() ? std::filesystem::path(run_models_[r]) : std::filesystem::path()));
   }
-  const geometry::Landmarks landmarks = geometry::read_landmarks(GeometryFiles{model}.landmarks());
-  IntegrationOptions opt;
-  opt.steps_per_cycle = steps_per_cycle_;
-  opt.samples_per_cycle = steps_per_cycle_ % 100 == 0 ? 100 : steps_per_cycle_;
-  const Calibration cal = calibrate_model(g, landmarks, runs, opt, !quiet_,
-                                          std::set<std::string>(fit_.begin(), fit_.end()));
-  save_calibration(model, cal);
+  const geometry::Landmarks landmarks =
+      geometry::read_landmarks(GeometryFiles{model_dir}.landmarks());
+  const Calibration cal = calibrate_model(g, landmarks, runs, integration(steps_per_cycle_),
+                                          !quiet_, std::set<std::string>(fit_.begin(), fit_.end()));
+  save_calibration(model_dir, cal);
   return 0;
 }
 
 int RomCommand::sweep() const {
   SweepSpec spec = parse_sweep(entry_range_, exit_range_, steps_, marks_); // before any work
-  const std::filesystem::path model(model_dir_);
-  const DissectionGeometry g = model_geometry(model, !quiet_);
-  const io::Case c = io::load_case(case_file_);
-  const RomInputs in = rom_inputs(c, g, wall_thickness_ * 1e-3);
-  const RomCoefficients k =
-      load_coefficients(model, coefficients_file_, in.wall.has_value(), !quiet_);
+  const Model m = model();
   spec.steps_per_cycle = steps_per_cycle_;
   const std::filesystem::path out =
-      output_.empty() ? model / "rom" / "sweep" : std::filesystem::path(output_);
-  const SweepResult r = sweep_tears(g, in, k, spec, !quiet_);
+      output_.empty() ? m.dir / "rom" / "sweep" : std::filesystem::path(output_);
+  const SweepResult r = sweep_tears(m.geometry, m.inputs, m.coefficients, spec, !quiet_);
   write_sweep(r, spec, out);
   if (!quiet_)
     fmt::print("{} variants in {:.2f} s; wrote {} and {}\n", r.rows.size(), r.seconds,

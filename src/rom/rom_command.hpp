@@ -10,6 +10,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "rom/dissection_network.hpp"
+
 namespace tearflow::rom {
 
 class RomCommand {
@@ -19,6 +21,14 @@ public:
   int run() const; ///< InputError for bad input
 
 private:
+  /// The model directory's geometry, the case's inputs and the coefficients (predict, sweep).
+  struct Model {
+    std::filesystem::path dir;
+    DissectionGeometry geometry;
+    RomInputs inputs;
+    RomCoefficients coefficients;
+  };
+  Model model() const;
   int predict() const;
   int calibrate() const;
   int sweep() const;

@@ -37,13 +37,6 @@ std::pair<double, double> parse_range(const std::string& s, const std::string& o
   return {lo, hi};
 }
 
-double mean(const std::vector<double>& t, const std::vector<double>& v) {
-  double s = 0.0;
-  for (size_t k = 1; k < t.size(); ++k)
-    s += 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
-  return s / (t.back() - t.front());
-}
-
 } // namespace
 
 SweepSpec parse_sweep(const std::string& entry, const std::string& exit, int steps,
@@ -75,7 +68,7 @@ SweepRow station_metrics(const analysis::Analysis& a) {
     std::vector<double> qt, qf;
     for (size_t f = 0; f < a.time.size(); ++f)
       qt.push_back(tl->samples[f].flow), qf.push_back(fl->samples[f].flow);
-    const double mt = mean(a.time, qt), mf = mean(a.time, qf);
+    const double mt = analysis::time_mean(a.time, qt), mf = analysis::time_mean(a.time, qf);
     row.fr_fl.push_back(100.0 * mf / (mf + mt));
     auto dp = [&](size_t f) {
       return (tl->samples[f].pressure - fl->samples[f].pressure) / units::mmHg;
