@@ -5,6 +5,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <vtkUnstructuredGrid.h>
@@ -120,6 +121,49 @@ json achieved_json(const json& cycle) {
 
 double time_mean(const std::vector<double>& t, const std::vector<double>& f) {
   return t.size() < 2 ? f.front() : integral(t, f) / (t.back() - t.front());
+}
+
+double interpolate(const std::vector<double>& t, const std::vector<double>& f, double at) {
+  if (at <= t.front())
+    return f.front();
+  if (at >= t.back())
+    return f.back();
+  const std::size_t i = std::upper_bound(t.begin(), t.end(), at) - t.begin();
+  const double w = (at - t[i - 1]) / (t[i] - t[i - 1]);
+  return (1.0 - w) * f[i - 1] + w * f[i];
+}
+
+const std::vector<double>& LandmarkTable::column(const std::string& name) const {
+  const auto it = columns.find(name);
+  if (it == columns.end())
+    input_error("{}: no column '{}'", file.string(), name);
+  return it->second;
+}
+
+LandmarkTable read_landmark_table(const std::filesystem::path& csv) {
+  std::ifstream in(csv);
+  if (!in)
+    input_error("{}: cannot read (written by `tearflow analyze`: run it first)", csv.string());
+  LandmarkTable t{csv, {}, {}};
+  std::string line, cell;
+  std::getline(in, line);
+  for (std::istringstream h(line); std::getline(h, cell, ',');)
+    t.names.push_back(cell);
+  for (const std::string& c : t.names)
+    t.columns[c];
+  for (int row = 2; std::getline(in, line); ++row) {
+    std::istringstream r(line);
+    for (const std::string& c : t.names) {
+      if (!std::getline(r, cell, ','))
+        input_error("'{}' line {}: {} columns expected", csv.string(), row, t.names.size());
+      try {
+        t.columns[c].push_back(std::stod(cell));
+      } catch (const std::exception&) {
+        input_error("'{}' line {}, column {}: '{}' is not a number", csv.string(), row, c, cell);
+      }
+    }
+  }
+  return t;
 }
 
 const LandmarkSeries* Analysis::find(const std::string& name) const {

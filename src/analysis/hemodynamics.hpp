@@ -13,6 +13,7 @@
 // when there is none); end diastole the first frame. Time means and volumes use the
 // trapezoidal rule over the frames, as cycles.json does.
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -75,6 +76,10 @@ Analysis analyze_run(const AnalyzeOptions& options);
 /// frame is its own mean.
 double time_mean(const std::vector<double>& t, const std::vector<double>& f);
 
+/// Linear interpolation of (t, f) at `at` (t increasing), holding the end values outside
+/// [t0, tn].
+double interpolate(const std::vector<double>& t, const std::vector<double>& f, double at);
+
 /// Sets peak systole (largest flow through `inlet`, else through the first landmark with a
 /// measured flow) and end diastole (the first frame).
 void mark_cycle_events(Analysis& analysis);
@@ -85,5 +90,20 @@ nlohmann::json metrics_json(const Analysis& analysis);
 /// Writes metrics.json, one CSV per landmark (`<name>.csv`) and, when there are paired
 /// stations, `pressure_difference.csv` into `directory`.
 void write_analysis(const Analysis& analysis, const std::filesystem::path& directory);
+
+/// A landmark's CSV as write_analysis writes it: its columns by name, in the file's order
+/// (a value may be nan, as written for what a run does not know).
+struct LandmarkTable {
+  std::filesystem::path file;
+  std::vector<std::string> names;
+  std::map<std::string, std::vector<double>> columns;
+  /// The column called `name`; InputError naming the file otherwise.
+  const std::vector<double>& column(const std::string& name) const;
+};
+
+/// Reads a landmark's CSV; InputError naming the file (and the line and column) when it
+/// cannot be read, a row has another number of columns than the header, or a cell is not a
+/// number.
+LandmarkTable read_landmark_table(const std::filesystem::path& csv);
 
 } // namespace tearflow::analysis

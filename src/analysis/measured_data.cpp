@@ -115,17 +115,6 @@ std::optional<Table> read_table(const std::filesystem::path& dir, const Quantity
   return t;
 }
 
-/// Linear interpolation of (t, f) at `at`, holding the end values outside [t0, tn].
-double interpolate(const std::vector<double>& t, const std::vector<double>& f, double at) {
-  if (at <= t.front())
-    return f.front();
-  if (at >= t.back())
-    return f.back();
-  const std::size_t i = std::upper_bound(t.begin(), t.end(), at) - t.begin();
-  const double w = (at - t[i - 1]) / (t[i] - t[i - 1]);
-  return (1.0 - w) * f[i - 1] + w * f[i];
-}
-
 geometry::Landmark landmark_named(const std::string& name) {
   geometry::Landmark l;
   l.name = name;

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <vtkBase64Utilities.h>
 
+#include "analysis/hemodynamics.hpp"
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
 #include "core/units.hpp"
@@ -47,27 +48,10 @@ std::string escape_html(const std::string& s) {
 
 /// A landmark's CSV as {column: [values]}.
 json read_series(const std::filesystem::path& csv) {
-  std::istringstream in(read_text(csv, "written by `tearflow analyze`"));
-  std::string line, cell;
-  std::getline(in, line);
-  std::vector<std::string> columns;
-  for (std::istringstream h(line); std::getline(h, cell, ',');)
-    columns.push_back(cell);
+  const analysis::LandmarkTable t = analysis::read_landmark_table(csv);
   json out = json::object();
-  for (const std::string& c : columns)
-    out[c] = json::array();
-  for (int row = 2; std::getline(in, line); ++row) {
-    std::istringstream r(line);
-    for (const std::string& c : columns) {
-      if (!std::getline(r, cell, ','))
-        input_error("'{}' line {}: {} columns expected", csv.string(), row, columns.size());
-      try {
-        out[c].push_back(std::stod(cell));
-      } catch (const std::exception&) {
-        input_error("'{}' line {}, column {}: '{}' is not a number", csv.string(), row, c, cell);
-      }
-    }
-  }
+  for (const std::string& c : t.names)
+    out[c] = t.columns.at(c);
   return out;
 }
 

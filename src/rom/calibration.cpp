@@ -4,7 +4,6 @@
 #include <fstream>
 #include <functional>
 #include <set>
-#include <sstream>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -22,62 +21,22 @@ using nlohmann::json;
 
 namespace {
 
-/// The columns `time_s`, `flow_m3_per_s` and `mean_pressure_Pa` of an analysis CSV.
+/// The columns `time_s`, `flow_m3_per_s` and `mean_pressure_Pa` of an analysis CSV, every
+/// value finite, at least 3 frames.
 void read_landmark_csv(const std::filesystem::path& file, std::vector<double>& t,
                        std::vector<double>& q, std::vector<double>& p) {
-  std::ifstream in(file);
-  if (!in)
-    input_error("{}: cannot read (run `tearflow analyze` on the run first)", file.string());
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> header;
-  for (std::stringstream ss(line); std::getline(ss, line, ',');)
-    header.push_back(line);
-  auto column = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end())
-      input_error("{}: no column '{}'", file.string(), name);
-    return static_cast<size_t>(it - header.begin());
-  };
-  const size_t ct = column("time_s"), cq = column("flow_m3_per_s"), cp = column("mean_pressure_Pa");
-  int number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty())
-      continue;
-    std::vector<std::string> cells;
-    for (std::stringstream ss(line); std::getline(ss, line, ',');)
-      cells.push_back(line);
-    auto value = [&](size_t c) {
-      if (c >= cells.size())
-        input_error("{}, line {}: {} columns, expected {}", file.string(), number, cells.size(),
-                    header.size());
-      try {
-        size_t used = 0;
-        const double v = std::stod(cells[c], &used);
-        if (used != cells[c].size() || !std::isfinite(v))
-          throw std::invalid_argument(cells[c]);
-        return v;
-      } catch (const std::exception&) {
-        input_error("{}, line {}, column {}: '{}' is not a finite number", file.string(), number,
-                    header[c], cells[c]);
-      }
-    };
-    t.push_back(value(ct)), q.push_back(value(cq)), p.push_back(value(cp));
+  const analysis::LandmarkTable table = analysis::read_landmark_table(file);
+  t = table.column("time_s"), q = table.column("flow_m3_per_s");
+  p = table.column("mean_pressure_Pa");
+  for (const char* name : {"time_s", "flow_m3_per_s", "mean_pressure_Pa"}) {
+    const std::vector<double>& v = table.column(name);
+    for (size_t row = 0; row < v.size(); ++row)
+      if (!std::isfinite(v[row]))
+        input_error("{}, line {}, column {}: '{}' is not a finite number", file.string(), row + 2,
+                    name, v[row]);
   }
   if (t.size() < 3)
     input_error("{}: {} frames, expected a cycle of at least 3", file.string(), t.size());
-}
-
-/// Linear interpolation of (t, v) at x (t increasing; ends held).
-double interpolate(const std::vector<double>& t, const std::vector<double>& v, double x) {
-  if (x <= t.front())
-    return v.front();
-  if (x >= t.back())
-    return v.back();
-  const size_t k = std::upper_bound(t.begin(), t.end(), x) - t.begin();
-  const double f = (x - t[k - 1]) / (t[k] - t[k - 1]);
-  return (1.0 - f) * v[k - 1] + f * v[k];
 }
 
 int station_count(const CalibrationRun& run) {
@@ -236,8 +195,8 @@ std::vector<double> misfit(const analysis::Analysis& a, const CalibrationRun& ru
   auto pressure_difference = [&](const std::string& p, const std::string& q) {
     const std::vector<double> a1 = series(p, true), a2 = series(q, true);
     for (size_t f = 0; f < run.time.size(); ++f) {
-      const double rom =
-          interpolate(a.time, a1, run.time[f]) - interpolate(a.time, a2, run.time[f]);
+      const double rom = analysis::interpolate(a.time, a1, run.time[f]) -
+                         analysis::interpolate(a.time, a2, run.time[f]);
       const double d3 = run.pressure.at(p)[f] - run.pressure.at(q)[f];
       r.push_back((rom - d3) / units::mmHg);
     }
