@@ -48,33 +48,11 @@ constexpr double kMaxPocketShare = 0.01;
 // Nearest labelled voxel for a pocket with no labelled neighbour: searched this far [voxels].
 constexpr int kPocketReach = 4;
 
-/// The image: voxel (i, j, k) has its centre at sum_a (u0[a] + spacing idx[a]) axis[a].
-struct Grid {
-  std::array<Vec3, 3> axis; ///< the image axes in model coordinates (direction columns)
-  Vec3 u0{};                ///< the first voxel's centre in image-axis coordinates [m]
-  double spacing = 0;
-  std::array<int, 3> size{};
+/// The image (isotropic voxels of `voxel`), with the voxelizer's own walks over it.
+struct Grid : ImageGrid {
+  double voxel = 0; ///< the voxels' size [m]
 
-  std::size_t count() const { return std::size_t(size[0]) * size[1] * size[2]; }
-  std::size_t at(int i, int j, int k) const {
-    return std::size_t(i) + std::size_t(size[0]) * (std::size_t(j) + std::size_t(size[1]) * k);
-  }
-  std::array<int, 3> ijk(std::size_t v) const {
-    const std::size_t nx = size[0], ny = size[1];
-    return {int(v % nx), int(v / nx % ny), int(v / (nx * ny))};
-  }
-  /// Continuous index of a point: the centre of voxel (i, j, k) is (i, j, k).
-  Vec3 index_of(const Vec3& x) const {
-    return {(dot(axis[0], x) - u0[0]) / spacing, (dot(axis[1], x) - u0[1]) / spacing,
-            (dot(axis[2], x) - u0[2]) / spacing};
-  }
-  Vec3 centre(int i, int j, int k) const {
-    const int idx[3] = {i, j, k};
-    Vec3 x{};
-    for (int a = 0; a < 3; ++a)
-      x = x + (u0[a] + spacing * idx[a]) * axis[a];
-    return x;
-  }
+  Vec3 centre(int i, int j, int k) const { return point({double(i), double(j), double(k)}); }
   Vec3 centre(std::size_t v) const {
     const auto [i, j, k] = ijk(v);
     return centre(i, j, k);
@@ -108,24 +86,17 @@ struct Grid {
   }
 };
 
-/// Image axes Rz Ry Rx e_a for angles in degrees.
-std::array<Vec3, 3> rotated_axes(const Vec3& degrees) {
-  const double x = degrees[0] * std::numbers::pi / 180, y = degrees[1] * std::numbers::pi / 180,
-               z = degrees[2] * std::numbers::pi / 180;
-  const Mat3 rx{{{1, 0, 0}, {0, std::cos(x), -std::sin(x)}, {0, std::sin(x), std::cos(x)}}};
-  const Mat3 ry{{{std::cos(y), 0, std::sin(y)}, {0, 1, 0}, {-std::sin(y), 0, std::cos(y)}}};
-  const Mat3 rz{{{std::cos(z), -std::sin(z), 0}, {std::sin(z), std::cos(z), 0}, {0, 0, 1}}};
-  auto mul = [](const Mat3& a, const Mat3& b) {
-    Mat3 c{};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k)
-          c[i][j] += a[i][k] * b[k][j];
-    return c;
+/// The image axes Rz Ry Rx e_a for angles in degrees (rows, as ImageGrid::direction).
+Mat3 rotated_axes(const Vec3& degrees) {
+  const Mat3 rx = rotation({1, 0, 0}, degrees[0]), ry = rotation({0, 1, 0}, degrees[1]),
+             rz = rotation({0, 0, 1}, degrees[2]);
+  auto apply = [](const Mat3& rows, const Vec3& v) { // R v, R's rows being R e_b
+    return v[0] * rows[0] + v[1] * rows[1] + v[2] * rows[2];
   };
-  const Mat3 r = mul(rz, mul(ry, rx));
-  return {Vec3{r[0][0], r[1][0], r[2][0]}, Vec3{r[0][1], r[1][1], r[2][1]},
-          Vec3{r[0][2], r[1][2], r[2][2]}};
+  Mat3 axes{};
+  for (int a = 0; a < 3; ++a)
+    axes[a] = apply(rz, apply(ry, rx[a]));
+  return axes;
 }
 
 void check_options(const VoxelizeOptions& o) {
@@ -149,15 +120,16 @@ void check_options(const VoxelizeOptions& o) {
 
 Grid make_grid(const mesh::Mesh& mesh, const VoxelizeOptions& o, const fs::path& dir) {
   Grid g;
-  g.axis = rotated_axes(o.rotation);
-  g.spacing = o.spacing;
+  g.direction = rotated_axes(o.rotation);
+  g.voxel = o.spacing;
+  g.spacing = {o.spacing, o.spacing, o.spacing};
   Vec3 lo, hi;
   lo.fill(std::numeric_limits<double>::max());
   hi.fill(std::numeric_limits<double>::lowest());
   for (const Vec3& p : mesh.points)
     for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], dot(g.axis[a], p));
-      hi[a] = std::max(hi[a], dot(g.axis[a], p));
+      lo[a] = std::min(lo[a], dot(g.direction[a], p));
+      hi[a] = std::max(hi[a], dot(g.direction[a], p));
     }
   double voxels = 1;
   for (int a = 0; a < 3; ++a) {
@@ -165,7 +137,7 @@ Grid make_grid(const mesh::Mesh& mesh, const VoxelizeOptions& o, const fs::path&
     voxels *= n;
     g.size[a] = n < 1e9 ? int(n) : 0;
     // Centred on the model: the margin is the same on both sides of each axis.
-    g.u0[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * (n - 1) * o.spacing;
+    g.origin = g.origin + (0.5 * (lo[a] + hi[a]) - 0.5 * (n - 1) * o.spacing) * g.direction[a];
   }
   if (voxels > kMaxVoxels)
     input_error("voxelize '{}': a {} mm spacing makes {:.3g} voxels ({:.0f} x {:.0f} x {:.0f} "
@@ -186,7 +158,7 @@ void rasterize_fluid(const mesh::Mesh& mesh, int fluid, const Grid& g,
     a.fill(std::numeric_limits<double>::max());
     b.fill(std::numeric_limits<double>::lowest());
     for (int n = 0; n < 4; ++n) {
-      q[n] = g.index_of(mesh.points[mesh.tets[t][n]]);
+      q[n] = g.index(mesh.points[mesh.tets[t][n]]);
       for (int d = 0; d < 3; ++d)
         a[d] = std::min(a[d], q[n][d]), b[d] = std::max(b[d], q[n][d]);
     }
@@ -211,7 +183,7 @@ void rasterize_fluid(const mesh::Mesh& mesh, int fluid, const Grid& g,
           // fluid tets.
           constexpr double eps = -1e-12;
           if (l1 >= eps && l2 >= eps && l3 >= eps && 1 - l1 - l2 - l3 >= eps)
-            cls[g.at(i, j, k)] = kFluid;
+            cls[g.linear(i, j, k)] = kFluid;
         }
   }
 }
@@ -254,7 +226,7 @@ struct TearRegion {
     for (int c = 0; c < 8; ++c) {
       const Vec3 x = centroid + ((c & 1) ? a : -a) * axis + ((c & 2) ? b : -b) * across +
                      ((c & 4) ? kTearHalfHeight : -kTearHalfHeight) * normal;
-      const Vec3 q = g.index_of(x);
+      const Vec3 q = g.index(x);
       for (int d = 0; d < 3; ++d)
         lo[d] = std::min(lo[d], q[d]), hi[d] = std::max(hi[d], q[d]);
     }
@@ -267,7 +239,7 @@ struct TearRegion {
           const Vec3 d = g.centre(i, j, k) - centroid;
           const double s = dot(d, axis) / a, t = dot(d, across) / b;
           if (std::abs(dot(d, normal)) <= kTearHalfHeight && s * s + t * t <= 1)
-            f(g.at(i, j, k), dot(d, normal));
+            f(g.linear(i, j, k), dot(d, normal));
         }
   }
 };
@@ -295,7 +267,7 @@ std::size_t flood(std::vector<std::uint8_t>& cls, const Grid& g,
 /// points sit on caps and near walls, where the nearest centre may lie outside the fluid).
 std::optional<std::size_t> nearest_of(const std::vector<std::uint8_t>& cls, const Grid& g,
                                       const Vec3& p, std::uint8_t a, std::uint8_t b) {
-  const Vec3 q = g.index_of(p);
+  const Vec3 q = g.index(p);
   std::optional<std::size_t> best;
   double best_d2 = std::numeric_limits<double>::max();
   std::array<int, 3> lo, hi;
@@ -305,9 +277,9 @@ std::optional<std::size_t> nearest_of(const std::vector<std::uint8_t>& cls, cons
     for (int j = lo[1]; j <= hi[1]; ++j)
       for (int i = lo[0]; i <= hi[0]; ++i) {
         const Vec3 r = Vec3{double(i), double(j), double(k)} - q;
-        const std::uint8_t c = cls[g.at(i, j, k)];
+        const std::uint8_t c = cls[g.linear(i, j, k)];
         if ((c == a || c == b) && dot(r, r) < best_d2)
-          best_d2 = dot(r, r), best = g.at(i, j, k);
+          best_d2 = dot(r, r), best = g.linear(i, j, k);
       }
   return best;
 }
@@ -337,7 +309,7 @@ std::size_t label_pockets(std::vector<std::uint8_t>& cls, const Grid& g, std::si
       input_error("voxelize '{}': {:.1f} mL of fluid around ({:.1f}, {:.1f}, {:.1f}) mm is "
                   "reached neither from the true lumen's plane (AAo or inlet) nor from the "
                   "FL planes' points; is it part of the model?",
-                  dir.string(), pocket.size() * std::pow(g.spacing, 3) / 1e-6,
+                  dir.string(), pocket.size() * std::pow(g.voxel, 3) / 1e-6,
                   g.centre(pocket[0])[0] / mm, g.centre(pocket[0])[1] / mm,
                   g.centre(pocket[0])[2] / mm);
     std::uint8_t label = touch[kTL] + touch[kFL] == 0 ? kOutside
@@ -353,7 +325,7 @@ std::size_t label_pockets(std::vector<std::uint8_t>& cls, const Grid& g, std::si
             const int i = c[0] + di, j = c[1] + dj, k = c[2] + dk;
             if (i < 0 || j < 0 || k < 0 || i >= g.size[0] || j >= g.size[1] || k >= g.size[2])
               continue;
-            const std::uint8_t l = cls[g.at(i, j, k)];
+            const std::uint8_t l = cls[g.linear(i, j, k)];
             const double d2 = di * di + dj * dj + dk * dk;
             if ((l == kTL || l == kFL) && d2 < best)
               best = d2, label = l;
@@ -394,7 +366,7 @@ VoxelizeResult voxelize_geometry(const fs::path& geometry_dir, const VoxelizeOpt
     input_error("voxelize: '{}' has no tears: the lumens are told apart at them", lm);
   std::vector<TearRegion> regions;
   for (const TearLandmark& t : landmarks.tears) {
-    const TearRegion r(t, g.spacing);
+    const TearRegion r(t, g.voxel);
     r.for_each_voxel(g, [&](std::size_t v, double) {
       if (cls[v] == kFluid)
         cls[v] = kTearRegion;
@@ -417,7 +389,7 @@ VoxelizeResult voxelize_geometry(const fs::path& geometry_dir, const VoxelizeOpt
     input_error("voxelize: plane '{}' of '{}': its origin ({:.1f}, {:.1f}, {:.1f}) mm is not in "
                 "the fluid (outside the tear regions) at {} mm voxels",
                 tl_mark->name, lm, tl_mark->origin[0] / mm, tl_mark->origin[1] / mm,
-                tl_mark->origin[2] / mm, g.spacing / mm);
+                tl_mark->origin[2] / mm, g.voxel / mm);
   flood(cls, g, {*tl_seed}, kTL);
 
   std::vector<std::size_t> fl_seeds;
@@ -434,11 +406,11 @@ VoxelizeResult voxelize_geometry(const fs::path& geometry_dir, const VoxelizeOpt
                   "lumens meet outside the tear regions, where the wall between them (flap or "
                   "false-lumen end cap) is thinner than a voxel ({} mm); choose a finer "
                   "--spacing",
-                  geometry_dir.string(), l.name, g.spacing / mm);
+                  geometry_dir.string(), l.name, g.voxel / mm);
     input_error("voxelize: plane '{}' of '{}': its point ({:.1f}, {:.1f}, {:.1f}) mm is not in "
                 "the fluid at {} mm voxels",
                 l.name, lm, (*l.point)[0] / mm, (*l.point)[1] / mm, (*l.point)[2] / mm,
-                g.spacing / mm);
+                g.voxel / mm);
   }
   if (fl_seeds.empty())
     input_error("voxelize: '{}' has no false-lumen plane (lumen \"FL\" with a point) to find "
@@ -504,16 +476,13 @@ VoxelizeResult voxelize_geometry(const fs::path& geometry_dir, const VoxelizeOpt
     }
     c = c < 4 ? code[c] : 0; // every voxel is outside or labelled by now
   }
-  const double voxel = std::pow(g.spacing, 3);
+  const double voxel = std::pow(g.voxel, 3);
   result.tl_volume = result.tl_voxels * voxel;
   result.fl_volume = result.fl_voxels * voxel;
   result.thrombus_volume = result.thrombus_voxels * voxel;
   result.size = g.size;
   LabelMap map;
-  map.grid.size = g.size;
-  map.grid.origin = g.centre(0, 0, 0);
-  map.grid.spacing = {g.spacing, g.spacing, g.spacing};
-  map.grid.direction = {g.axis[0], g.axis[1], g.axis[2]};
+  map.grid = g;
   map.labels.assign(cls.begin(), cls.end());
   if (out.has_parent_path()) {
     std::error_code ec;
