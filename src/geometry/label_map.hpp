@@ -32,8 +32,9 @@ void write_label_map(const LabelMap& map, const std::filesystem::path& file);
 /// sample (negative inside): within 6 mm of it, to the 0.5 level of the mask blurred by 0.8
 /// voxels (near it) and to the nearest of those surface points (beyond); farther, ITK's
 /// Maurer map with its zero moved to the voxels' faces, smoothed by a Gaussian of `sigma`
-/// [m] (0: none).
+/// [m] (0: none). `curvature_corrected`: the blurred level moved back out by the blur's
+/// curvature shift (label_map.cpp), for the solid sets (the lumina), not thin sheets.
 std::vector<float> signed_distance(const ImageGrid& grid, const std::vector<std::uint8_t>& mask,
-                                   double sigma);
+                                   double sigma, bool curvature_corrected = false);
 
 } // namespace tearflow::geometry

@@ -436,10 +436,14 @@ LabelModel build_label_model(const LabelMap& map, const LabelModelOptions& o) {
       out.landmarks.planes.push_back(
           {fmt::format("FL{}", k + 1), line.at(s), line.tangent(s), "FL", *fl});
     }
+    // Below the false lumen's end; else below the exit tear; in a scan cropped across the
+    // dissection (no exit tear, the false lumen reaching the outlet's cap) between the last
+    // station and the outlet, inside the capped domain.
     const double fl_end_wall = fl_last + h;
     centreline_plane("DAo_dist", fl_end_wall + 10e-3 < s_out - 1e-3
                                      ? 0.5 * (fl_end_wall + s_out) + 2e-3
-                                     : 0.5 * (s_exit + s_out));
+                                 : s_exit < s_out ? 0.5 * (s_exit + s_out)
+                                                  : 0.5 * (last + s_out));
     aorta_plane("outlet", out_cap.centre - 1e-3 * out_cap.normal, out_cap.normal);
   }
   if (out.landmarks.tears.empty())

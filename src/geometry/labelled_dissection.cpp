@@ -144,10 +144,10 @@ LabelledDissection::LabelledDissection(const LabelMap& map, const DissectionOpti
   const double sigma =
       o.smoothing * (map.grid.spacing[0] + map.grid.spacing[1] + map.grid.spacing[2]) / 3;
   const float far = static_cast<float>(1.0);
-  tl_ = {&grid_, signed_distance(grid_, tl, sigma), far};
-  fl_ = {&grid_, signed_distance(grid_, flt, sigma), far};
+  tl_ = {&grid_, signed_distance(grid_, tl, sigma, true), far};
+  fl_ = {&grid_, signed_distance(grid_, flt, sigma, true), far};
   if (r.thrombus >= 0)
-    thrombus_ = {&grid_, signed_distance(grid_, th, sigma), far};
+    thrombus_ = {&grid_, signed_distance(grid_, th, sigma, true), far};
 
   // The gap read as flap: label-free voxels on the lumina's mid-surface within 3 h of both;
   // its 90th percentile, widened by a voxel, and at least h plus a voxel.
