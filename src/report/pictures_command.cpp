@@ -84,10 +84,15 @@ json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks
     planes[name].push_back(&m);
   }
   const ColourScale scale{"u.n [m/s]", -o.speed_max, o.speed_max};
+  // The in-plane (secondary) flow is a fraction of the through-plane one: its arrows are
+  // scaled on a quarter of the speed scale, stated on the picture.
+  const double arrow_speed = o.speed_max / 4;
   for (const std::string& name : order) {
     pictures.push_back(
-        picture_json(render_plane_map(planes[name], scale, o.speed_max,
-                                      fmt::format("{}, {} (t = {} s)", name, f.event, f.frame.time),
+        picture_json(render_plane_map(planes[name], scale, arrow_speed,
+                                      fmt::format("{}, {} (t = {} s); arrows: 1.5 grid steps "
+                                                  "= {} m/s in plane",
+                                                  name, f.event, f.frame.time, arrow_speed),
                                       dir / ("plane_" + name + ".png"))));
   }
   return out;
@@ -133,7 +138,8 @@ int make_pictures(const PicturesOptions& o) {
                  {"colour_scales",
                   {{"speed_m_per_s", {0.0, o.speed_max}},
                    {"through_plane_velocity_m_per_s", {-o.speed_max, o.speed_max}},
-                   {"displacement_mm", {0.0, o.displacement_max / units::mm}}}},
+                   {"displacement_mm", {0.0, o.displacement_max / units::mm}},
+                   {"in_plane_arrow_of_1.5_grid_steps_m_per_s", o.speed_max / 4}}},
                  {"frames", json::array()}};
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const analysis::PictureFrame& f = frames[i];
