@@ -34,6 +34,7 @@
 #include "analysis_support.hpp"
 #include "cli_support.hpp"
 #include "core/virtual_display.hpp"
+#include "report/flow_section.hpp"
 
 namespace tearflow {
 namespace {
@@ -185,10 +186,10 @@ double drawn_fraction(const std::filesystem::path& png) {
 // Headless: DISPLAY removed, so the program starts its own X server (core/virtual_display).
 TEST(FlowPictures, CommandRendersNonEmptyPicturesOnTheStatedScale) {
   const RunFolder f("flow-pictures-command");
-  const std::filesystem::path out = f.dir / "figures";
-  const testing::Result r = testing::run_tearflow(
-      fmt::format("pictures {} --speed-max 0.8 -o {}", f.dir.string(), out.string()),
-      "timeout 300 env -u DISPLAY"); // a hang becomes a failure
+  const std::filesystem::path out = report::flow_pictures_dir(f.dir); // the default
+  const testing::Result r =
+      testing::run_tearflow(fmt::format("pictures {} --speed-max 0.8", f.dir.string()),
+                            "timeout 300 env -u DISPLAY"); // a hang becomes a failure
   ASSERT_EQ(r.code, 0) << r.output;
   const nlohmann::json record = testing::read_json(out / "pictures.json");
   EXPECT_EQ(record["seed_landmark"], "inlet");
@@ -221,6 +222,22 @@ TEST(FlowPictures, CommandRendersNonEmptyPicturesOnTheStatedScale) {
   }
   EXPECT_EQ(streamline_pictures, 2u); // anterior and left lateral: no tears, no flap view
   EXPECT_EQ(plane_pictures, 3u);      // inlet, station 1 (TL1 with FL1), outlet
+
+  // The report's section: every picture embedded, once per run; runs side by side.
+  const auto count = [](const std::string& html, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = 0; (at = html.find(what, at)) != std::string::npos; ++at)
+      ++n;
+    return n;
+  };
+  const std::string one = report::flow_patterns_section({f.dir}, {"OR"});
+  EXPECT_NE(one.find("<h2>Flow patterns</h2>"), std::string::npos);
+  EXPECT_EQ(count(one, "src='data:image/png;base64,"), peak["pictures"].size());
+  const std::string two =
+      report::flow_patterns_section({f.dir, f.dir / "no-such-run"}, {"OR", "EN"});
+  EXPECT_EQ(count(two, "src='data:image/png;base64,"), peak["pictures"].size());
+  EXPECT_NE(two.find("EN: no pictures"), std::string::npos);
+  EXPECT_TRUE(report::flow_patterns_section({f.dir / "no-such-run"}, {"EN"}).empty());
 }
 
 TEST(FlowPictures, BadInputIsAClearError) {
