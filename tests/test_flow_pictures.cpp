@@ -34,6 +34,8 @@
 #include "analysis_support.hpp"
 #include "cli_support.hpp"
 #include "core/virtual_display.hpp"
+#include "io/vtu_series.hpp"
+#include "mesh/pipe_generator.hpp"
 #include "report/flow_section.hpp"
 
 namespace tearflow {
@@ -238,6 +240,68 @@ TEST(FlowPictures, CommandRendersNonEmptyPicturesOnTheStatedScale) {
   EXPECT_EQ(count(two, "src='data:image/png;base64,"), peak["pictures"].size());
   EXPECT_NE(two.find("EN: no pictures"), std::string::npos);
   EXPECT_TRUE(report::flow_patterns_section({f.dir / "no-such-run"}, {"EN"}).empty());
+}
+
+// An FSI frame: a pipe with its wall region (fluid r < 5 mm, wall 5-6 mm), Poiseuille flow in
+// the fluid, every node displaced radially by e r (the wall's motion and the fluid mesh's).
+TEST(FlowPictures, FsiRunShowsTheWallsDisplacementOnItsScale) {
+  const std::filesystem::path dir = testing::fresh_dir("flow-pictures-fsi");
+  const double r = 0.005, length = 0.02, e = 0.02; // |d| up to e x 6 mm = 0.12 mm
+  const mesh::Mesh pipe = mesh::make_pipe({r, length, 0.001, 0.001});
+  ASSERT_EQ(pipe.regions.size(), 2u);
+  std::vector<bool> in_fluid(pipe.points.size(), false);
+  for (std::size_t t = 0; t < pipe.tets.size(); ++t)
+    if (pipe.regions[static_cast<std::size_t>(pipe.tet_region[t])] == "fluid")
+      for (Index n : pipe.tets[t])
+        in_fluid[static_cast<std::size_t>(n)] = true;
+  std::filesystem::create_directories(dir);
+  io::VtuSeries series(pipe, dir, "flow");
+  const int frames = 5;
+  for (int i = 0; i < frames; ++i) {
+    const double t = 0.8 * i / (frames - 1), a = 1.0 + 0.5 * std::sin(2 * M_PI * t / 0.8);
+    io::PointField u{"velocity", 3, {}}, p{"pressure", 1, {}}, d{"displacement", 3, {}};
+    for (std::size_t n = 0; n < pipe.points.size(); ++n) {
+      const Vec3& x = pipe.points[n];
+      const double rho2 = x[0] * x[0] + x[1] * x[1];
+      const double w = in_fluid[n] ? std::max(0.0, 0.5 * a * (1 - rho2 / (r * r))) : 0.0;
+      u.values.insert(u.values.end(), {0.0, 0.0, w});
+      p.values.push_back(1e4 * a);
+      d.values.insert(d.values.end(), {e * a / 1.5 * x[0], e * a / 1.5 * x[1], 0.0});
+    }
+    series.write(i, t, {u, p, d});
+  }
+  geometry::Landmarks landmarks;
+  landmarks.planes = {{"inlet", {0, 0, 0.004}, {0, 0, 1}}, {"outlet", {0, 0, 0.016}, {0, 0, 1}}};
+  std::filesystem::create_directories(dir / "geometry");
+  geometry::write_landmarks(landmarks, dir / "geometry" / "landmarks.json");
+
+  const testing::Result result = testing::run_tearflow(
+      fmt::format("pictures {} --displacement-max-mm 0.3 --time 0.2", dir.string()),
+      "timeout 300 env -u DISPLAY");
+  ASSERT_EQ(result.code, 0) << result.output;
+  const nlohmann::json record =
+      testing::read_json(report::flow_pictures_dir(dir) / "pictures.json");
+  const nlohmann::json& frame = record["frames"][0];
+  EXPECT_EQ(frame["folder"], "t-0.2s");
+  int walls = 0;
+  for (const nlohmann::json& p : frame["pictures"]) {
+    const std::string file = p["file"];
+    if (file.rfind("wall_displacement_", 0) != 0)
+      continue;
+    ++walls;
+    EXPECT_EQ(p["scale_title"], "displacement [mm]");
+    EXPECT_EQ(p["scale_range"], nlohmann::json({0.0, 0.3}));
+    EXPECT_GT(drawn_fraction(report::flow_pictures_dir(dir) / "t-0.2s" / file), 0.03) << file;
+  }
+  EXPECT_EQ(walls, 2); // anterior, left lateral
+  // The sections are the deformed fluid's: at t = 0.2 s (a = 1.5) the lumen's radius is
+  // r (1 + e), its area pi r^2 (1 + e)^2 (4 % above the rest area) less the chords' loss,
+  // l^2 / (4 r^2) = 1 % at l = 1 mm (tests/test_analysis.cpp), taken twice for the spread of
+  // the edges.
+  const double area = frame["planes"]["inlet"]["area_m2"];
+  const double deformed = M_PI * r * r * (1 + e) * (1 + e);
+  EXPECT_LE(area, deformed * (1 + 1e-9));
+  EXPECT_GE(area, deformed * (1 - 0.02));
 }
 
 TEST(FlowPictures, BadInputIsAClearError) {
