@@ -33,6 +33,7 @@
 #include "analysis/hemodynamics.hpp"
 #include "analysis_support.hpp"
 #include "cli_support.hpp"
+#include "core/error.hpp"
 #include "core/virtual_display.hpp"
 #include "io/vtu_series.hpp"
 #include "mesh/pipe_generator.hpp"
@@ -161,9 +162,27 @@ TEST(FlowFeatures, PlaneMapFlowMatchesTheAnalysis) {
 }
 
 TEST(FlowFeatures, MidDiastoleIsAfterTheFlowFalls) {
-  RunFolder f("flow-features-diastole");
-  // No diastole in a flow that never falls below a tenth of its peak (a = 1 +- 0.5).
-  EXPECT_FALSE(analysis::mid_diastole_frame(f.dir, f.landmarks).has_value());
+  {
+    const RunFolder f("flow-features-no-diastole");
+    // No diastole in a flow that never falls below a tenth of its peak (a = 1 +- 0.5).
+    EXPECT_FALSE(analysis::mid_diastole_frame(f.dir, f.landmarks).has_value());
+  }
+  // A systole over the first half of the period, then rest: frames every 0.1 s, the peak at
+  // 0.2 s, systole ends at 0.4 s (a = 0 < a tenth of the peak), the cycle at 0.8 s: mid-diastole
+  // is the frame at 0.6 s.
+  SyntheticRun run = two_lumen_run();
+  run.amplitude = [](double t) { return std::max(0.0, std::sin(2 * M_PI * t / 0.8)); };
+  const std::filesystem::path dir = testing::fresh_dir("flow-features-diastole");
+  testing::write_synthetic_run(run, dir);
+  const geometry::Landmarks landmarks = two_lumen_landmarks(run);
+  EXPECT_DOUBLE_EQ(analysis::peak_systole_frame(dir, landmarks).frame.time, 0.2);
+  const auto diastole = analysis::mid_diastole_frame(dir, landmarks);
+  ASSERT_TRUE(diastole.has_value());
+  EXPECT_NEAR(diastole->frame.time, 0.6, 1e-12);
+  EXPECT_EQ(diastole->event, "mid-diastole");
+  // The frame nearest a time, and a time outside the run refused with the run's range.
+  EXPECT_NEAR(analysis::frame_at(dir, 0.33).frame.time, 0.3, 1e-12);
+  EXPECT_THROW(analysis::frame_at(dir, 0.9), InputError);
 }
 
 /// The share of a PNG's pixels that differ from the white background.
