@@ -10,7 +10,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -66,30 +66,41 @@ void start_xvfb(OwnServer& server, const std::string& purpose) {
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0)
     input_error("{}: cannot start Xvfb: pipe: {}", purpose, std::strerror(errno));
-  // The child's end of the pipe as a descriptor without close-on-exec (dup2 to another
-  // number clears the flag); its number is passed to -displayfd.
-  const int child_fd = fds[1] == 3 ? 4 : 3;
-  const std::string fd_text = std::to_string(child_fd);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, fds[1], child_fd);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  // Xvfb's own start-up chatter (fonts, extensions) is not ours to show.
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  std::string args[] = {"Xvfb", "-displayfd",   fd_text,     "-screen",
+  // The child's end of the pipe becomes its descriptor 3, passed to -displayfd.
+  std::string args[] = {"Xvfb", "-displayfd",   "3",         "-screen",
                         "0",    "1600x1200x24", "-nolisten", "tcp"};
   char* argv[std::size(args) + 1];
   for (std::size_t i = 0; i < std::size(args); ++i)
     argv[i] = args[i].data();
   argv[std::size(args)] = nullptr;
-  pid_t pid = -1;
-  const int spawned = posix_spawn(&pid, xvfb.c_str(), &actions, nullptr, argv, environ);
-  posix_spawn_file_actions_destroy(&actions);
+  const std::string program = xvfb.string();
+  const pid_t parent = getpid();
+  // fork, not posix_spawn: the server must hold none of this process's descriptors but the
+  // pipe (an inherited one, such as the MPI daemon's liveness pipe or a caller's stdout pipe,
+  // outlives us in the server and keeps a reader waiting for EOF: a test blocked on the
+  // output of `tearflow pictures` that way), and it must die with this process even when a
+  // signal ends it (PR_SET_PDEATHSIG), which no destructor covers. Between fork and exec only
+  // async-signal-safe calls.
+  const pid_t pid = fork();
+  if (pid == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) // the parent ended before the line above
+      _exit(127);
+    if (fds[1] != 3)
+      dup2(fds[1], 3);
+    fcntl(3, F_SETFD, 0); // keep it across exec
+    const int null = open("/dev/null", O_RDWR);
+    // Xvfb's own start-up chatter (fonts, extensions) is not ours to show.
+    for (int fd = 0; fd < 3; ++fd)
+      dup2(null, fd);
+    close_range(4, ~0U, 0);
+    execve(program.c_str(), argv, environ);
+    _exit(127);
+  }
   close(fds[1]);
-  if (spawned != 0) {
+  if (pid < 0) {
     close(fds[0]);
-    input_error("{}: cannot start '{}': {}", purpose, xvfb.string(), std::strerror(spawned));
+    input_error("{}: cannot start '{}': {}", purpose, program, std::strerror(errno));
   }
   server.pid = pid;
   // Xvfb writes the display number and a newline once it accepts connections.
