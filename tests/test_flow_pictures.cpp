@@ -80,7 +80,7 @@ struct RunFolder {
 TEST(FlowFeatures, StreamlinesStartOnTheSeedPlaneAndStayInTheLumen) {
   const RunFolder f("flow-features-streamlines");
   // a(t) = 1 + sin(2 pi t / T) / 2 peaks at T / 4, a saved frame.
-  const analysis::PictureFrame peak = analysis::peak_systole_frame(f.dir, f.landmarks);
+  const analysis::PictureFrame peak = analysis::cycle_frames(f.dir, f.landmarks).peak_systole;
   EXPECT_DOUBLE_EQ(peak.frame.time, f.run.period / 4);
   const auto fluid = analysis::read_flow_frame(peak.frame.file);
   const geometry::Landmark& seed = f.landmarks.plane("inlet");
@@ -131,7 +131,7 @@ TEST(FlowFeatures, PlaneMapFlowMatchesTheAnalysis) {
   analysis::AnalyzeOptions options;
   options.run_dir = f.dir;
   const analysis::Analysis a = analysis::analyze_run(options);
-  const analysis::PictureFrame peak = analysis::peak_systole_frame(f.dir, f.landmarks);
+  const analysis::PictureFrame peak = analysis::cycle_frames(f.dir, f.landmarks).peak_systole;
   ASSERT_DOUBLE_EQ(a.time[a.peak_systole], peak.frame.time);
   const auto fluid = analysis::read_flow_frame(peak.frame.file);
   const double l = f.edges.rms;
@@ -165,7 +165,7 @@ TEST(FlowFeatures, MidDiastoleIsAfterTheFlowFalls) {
   {
     const RunFolder f("flow-features-no-diastole");
     // No diastole in a flow that never falls below a tenth of its peak (a = 1 +- 0.5).
-    EXPECT_FALSE(analysis::mid_diastole_frame(f.dir, f.landmarks).has_value());
+    EXPECT_FALSE(analysis::cycle_frames(f.dir, f.landmarks).mid_diastole.has_value());
   }
   // A systole over the first half of the period, then rest: frames every 0.1 s, the peak at
   // 0.2 s, systole ends at 0.4 s (a = 0 < a tenth of the peak), the cycle at 0.8 s: mid-diastole
@@ -175,8 +175,9 @@ TEST(FlowFeatures, MidDiastoleIsAfterTheFlowFalls) {
   const std::filesystem::path dir = testing::fresh_dir("flow-features-diastole");
   testing::write_synthetic_run(run, dir);
   const geometry::Landmarks landmarks = two_lumen_landmarks(run);
-  EXPECT_DOUBLE_EQ(analysis::peak_systole_frame(dir, landmarks).frame.time, 0.2);
-  const auto diastole = analysis::mid_diastole_frame(dir, landmarks);
+  const analysis::CycleFrames cycle = analysis::cycle_frames(dir, landmarks);
+  EXPECT_DOUBLE_EQ(cycle.peak_systole.frame.time, 0.2);
+  const auto& diastole = cycle.mid_diastole;
   ASSERT_TRUE(diastole.has_value());
   EXPECT_NEAR(diastole->frame.time, 0.6, 1e-12);
   EXPECT_EQ(diastole->event, "mid-diastole");

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <nlohmann/json.hpp>
+#include <vtkAbstractCellLocator.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellLocator.h>
@@ -174,34 +175,27 @@ FlowSeries reference_flow(const std::filesystem::path& run_dir,
   return s;
 }
 
-std::size_t peak_index(const FlowSeries& s) {
-  return static_cast<std::size_t>(std::max_element(s.flow.begin(), s.flow.end()) - s.flow.begin());
-}
-
 } // namespace
 
-PictureFrame peak_systole_frame(const std::filesystem::path& run_dir,
-                                const geometry::Landmarks& landmarks) {
+CycleFrames cycle_frames(const std::filesystem::path& run_dir,
+                         const geometry::Landmarks& landmarks) {
   const FlowSeries s = reference_flow(run_dir, landmarks);
-  return {s.frames[peak_index(s)], "peak systole"};
-}
-
-std::optional<PictureFrame> mid_diastole_frame(const std::filesystem::path& run_dir,
-                                               const geometry::Landmarks& landmarks) {
-  const FlowSeries s = reference_flow(run_dir, landmarks);
-  const std::size_t peak = peak_index(s);
+  const std::size_t peak =
+      static_cast<std::size_t>(std::max_element(s.flow.begin(), s.flow.end()) - s.flow.begin());
+  CycleFrames c{{s.frames[peak], "peak systole"}, std::nullopt};
   std::size_t end_systole = peak;
   while (end_systole < s.flow.size() && s.flow[end_systole] >= 0.1 * s.flow[peak])
     ++end_systole;
   if (end_systole == s.flow.size())
-    return std::nullopt;
+    return c;
   const double middle = 0.5 * (s.frames[end_systole].time + s.frames.back().time);
   const auto nearest =
       std::min_element(s.frames.begin() + static_cast<long>(end_systole), s.frames.end(),
                        [&](const FlowFrame& a, const FlowFrame& b) {
                          return std::abs(a.time - middle) < std::abs(b.time - middle);
                        });
-  return PictureFrame{*nearest, "mid-diastole"};
+  c.mid_diastole = PictureFrame{*nearest, "mid-diastole"};
+  return c;
 }
 
 PictureFrame frame_at(const std::filesystem::path& run_dir, double time) {
@@ -270,8 +264,16 @@ vtkSmartPointer<vtkPolyData> trace_streamlines(vtkUnstructuredGrid* fluid,
   return lines;
 }
 
+vtkSmartPointer<vtkAbstractCellLocator> fluid_locator(vtkUnstructuredGrid* fluid) {
+  auto locator = vtkSmartPointer<vtkStaticCellLocator>::New();
+  locator->SetDataSet(fluid);
+  locator->BuildLocator();
+  return locator;
+}
+
 PlaneMap plane_map(vtkUnstructuredGrid* fluid, const geometry::Landmark& landmark,
-                   double vector_spacing, const std::string& frame) {
+                   double vector_spacing, const std::string& frame,
+                   vtkAbstractCellLocator* given_locator) {
   PlaneMap m;
   m.landmark = landmark;
   m.section = lumen_section(fluid, landmark, frame);
@@ -282,9 +284,9 @@ PlaneMap plane_map(vtkUnstructuredGrid* fluid, const geometry::Landmark& landmar
   // The in-plane velocity at the coarse grid's points, interpolated in the fluid's cell that
   // holds each (P1: the weights are the barycentric coordinates).
   const vtkSmartPointer<vtkPoints> points = grid_in_section(m.section, landmark, h);
-  auto locator = vtkSmartPointer<vtkStaticCellLocator>::New();
-  locator->SetDataSet(fluid);
-  locator->BuildLocator();
+  const vtkSmartPointer<vtkAbstractCellLocator> own =
+      given_locator ? nullptr : fluid_locator(fluid);
+  vtkAbstractCellLocator* locator = given_locator ? given_locator : own.Get();
   vtkDataArray* u = fluid->GetPointData()->GetArray("velocity");
   const Vec3 n = unit(landmark.normal);
   auto velocity = vtkSmartPointer<vtkDoubleArray>::New(),

@@ -23,6 +23,7 @@
 #include "analysis/landmark_sections.hpp"
 #include "geometry/landmarks.hpp"
 
+class vtkAbstractCellLocator;
 class vtkPolyData;
 class vtkUnstructuredGrid;
 
@@ -39,17 +40,20 @@ struct PictureFrame {
   std::string event; ///< "peak systole", "mid-diastole" or "t = 0.25 s"
 };
 
-/// Peak systole: among the frames `analyze` would take (the last complete cycle, else every
-/// saved frame), the one of largest flow through the `inlet` landmark (else the first
-/// landmark), the plane integral of u.n over its lumen section.
-PictureFrame peak_systole_frame(const std::filesystem::path& run_dir,
-                                const geometry::Landmarks& landmarks);
+/// The cycle's frames the pictures show, from one pass over the run's inlet flow.
+struct CycleFrames {
+  /// Among the frames `analyze` would take (the last complete cycle, else every saved frame),
+  /// the one of largest flow through the `inlet` landmark (else the first landmark): the
+  /// analysis's own flows when its CSV is of those frames, else the plane integral of u.n.
+  PictureFrame peak_systole;
+  /// Halfway (in time) from the end of systole to the end of those frames, the end of
+  /// systole the first frame after the peak whose inlet flow falls below a tenth of the
+  /// peak's; none when the flow never falls that far.
+  std::optional<PictureFrame> mid_diastole;
+};
 
-/// Mid-diastole: halfway (in time) from the end of systole to the end of those frames, the
-/// end of systole the first frame after peak systole whose inlet flow falls below a tenth of
-/// the peak's; none when the frames hold no diastole (the flow never falls that far).
-std::optional<PictureFrame> mid_diastole_frame(const std::filesystem::path& run_dir,
-                                               const geometry::Landmarks& landmarks);
+CycleFrames cycle_frames(const std::filesystem::path& run_dir,
+                         const geometry::Landmarks& landmarks);
 
 /// The saved frame nearest `time` [s]; InputError naming flow.pvd and the saved range when
 /// `time` lies outside it (by more than half the largest gap between frames).
@@ -93,9 +97,16 @@ struct PlaneMap {
   double flow = 0.0;           ///< int u.n dA over the section [m^3/s]
 };
 
-/// The plane map of `landmark`; `vector_spacing` [m] (0: equivalent diameter / 8).
+/// The plane map of `landmark`; `vector_spacing` [m] (0: equivalent diameter / 8). The
+/// arrows' velocity is located in `fluid` by `fluid_locator` (built on `fluid`; pass one for
+/// all the planes of a frame: on the study's meshes a build costs about a second), else by
+/// one built here.
 PlaneMap plane_map(vtkUnstructuredGrid* fluid, const geometry::Landmark& landmark,
-                   double vector_spacing, const std::string& frame);
+                   double vector_spacing, const std::string& frame,
+                   vtkAbstractCellLocator* fluid_locator = nullptr);
+
+/// A cell locator of `fluid` for plane_map.
+vtkSmartPointer<vtkAbstractCellLocator> fluid_locator(vtkUnstructuredGrid* fluid);
 
 /// The wall of an FSI frame (the VTU's `wall` region, in its reference position, with the
 /// point field `displacement` [m]); nullptr for a frame without a wall (a rigid-wall run).

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <vtkAbstractCellLocator.h>
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -58,8 +59,9 @@ json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks
                 json& pictures) {
   std::vector<analysis::PlaneMap> maps;
   json out = json::object();
+  const auto locator = analysis::fluid_locator(fluid); // one for all the planes
   for (const geometry::Landmark& l : landmarks.planes) {
-    maps.push_back(analysis::plane_map(fluid, l, 0.0, f.frame.file.string()));
+    maps.push_back(analysis::plane_map(fluid, l, 0.0, f.frame.file.string(), locator));
     const analysis::PlaneMap& m = maps.back();
     analysis::write_vtp(m.section, dir / ("plane_" + l.name + ".vtp"));
     analysis::write_vtp(m.vectors, dir / ("arrows_" + l.name + ".vtp"));
@@ -127,9 +129,10 @@ int make_pictures(const PicturesOptions& o) {
   if (o.time >= 0) {
     frames.push_back(analysis::frame_at(o.run_dir, o.time));
   } else {
-    frames.push_back(analysis::peak_systole_frame(o.run_dir, landmarks));
-    if (auto diastole = analysis::mid_diastole_frame(o.run_dir, landmarks))
-      frames.push_back(*diastole);
+    const analysis::CycleFrames cycle = analysis::cycle_frames(o.run_dir, landmarks);
+    frames.push_back(cycle.peak_systole);
+    if (cycle.mid_diastole)
+      frames.push_back(*cycle.mid_diastole);
   }
   const std::vector<View> views = standard_views(landmarks);
   json record = {{"run", o.run_dir},
