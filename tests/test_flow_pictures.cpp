@@ -17,6 +17,8 @@
 //     P1 interpolation error <l^2> / (2 r^2) of tests/test_analysis.cpp's header.
 #include <cfloat>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -210,7 +212,7 @@ TEST(FlowPictures, CommandRendersNonEmptyPicturesOnTheStatedScale) {
   const RunFolder f("flow-pictures-command");
   const std::filesystem::path out = report::flow_pictures_dir(f.dir); // the default
   const testing::Result r =
-      testing::run_tearflow(fmt::format("pictures {} --speed-max 0.8", f.dir.string()),
+      testing::run_tearflow(fmt::format("pictures {} --speed-max 0.8 --animate", f.dir.string()),
                             "timeout 300 env -u DISPLAY"); // a hang becomes a failure
   ASSERT_EQ(r.code, 0) << r.output;
   const nlohmann::json record = testing::read_json(out / "pictures.json");
@@ -245,6 +247,20 @@ TEST(FlowPictures, CommandRendersNonEmptyPicturesOnTheStatedScale) {
   EXPECT_EQ(streamline_pictures, 2u); // anterior and left lateral: no tears, no flap view
   EXPECT_EQ(plane_pictures, 3u);      // inlet, station 1 (TL1 with FL1), outlet
 
+  // The animation: one frame per saved frame of the cycle, as its acTL chunk says.
+  const nlohmann::json& animation = record["animation"];
+  EXPECT_EQ(animation["frames"], f.run.frames);
+  std::ifstream apng(out / animation["file"].get<std::string>(), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(apng)), std::istreambuf_iterator<char>());
+  const std::size_t actl = bytes.find("acTL");
+  ASSERT_NE(actl, std::string::npos);
+  const auto byte = [&](std::size_t k) {
+    return static_cast<unsigned>(static_cast<unsigned char>(bytes[k]));
+  };
+  EXPECT_EQ((byte(actl + 4) << 24) | (byte(actl + 5) << 16) | (byte(actl + 6) << 8) |
+                byte(actl + 7),
+            static_cast<unsigned>(f.run.frames));
+
   // The report's section: every picture embedded, once per run; runs side by side.
   const auto count = [](const std::string& html, const std::string& what) {
     std::size_t n = 0;
@@ -254,10 +270,10 @@ TEST(FlowPictures, CommandRendersNonEmptyPicturesOnTheStatedScale) {
   };
   const std::string one = report::flow_patterns_section({f.dir}, {"OR"});
   EXPECT_NE(one.find("<h2>Flow patterns</h2>"), std::string::npos);
-  EXPECT_EQ(count(one, "src='data:image/png;base64,"), peak["pictures"].size());
+  EXPECT_EQ(count(one, "src='data:image/png;base64,"), peak["pictures"].size() + 1); // + animation
   const std::string two =
       report::flow_patterns_section({f.dir, f.dir / "no-such-run"}, {"OR", "EN"});
-  EXPECT_EQ(count(two, "src='data:image/png;base64,"), peak["pictures"].size());
+  EXPECT_EQ(count(two, "src='data:image/png;base64,"), peak["pictures"].size() + 1);
   EXPECT_NE(two.find("EN: no pictures"), std::string::npos);
   EXPECT_TRUE(report::flow_patterns_section({f.dir / "no-such-run"}, {"EN"}).empty());
 }

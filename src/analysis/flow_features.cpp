@@ -182,7 +182,7 @@ CycleFrames cycle_frames(const std::filesystem::path& run_dir,
   const FlowSeries s = reference_flow(run_dir, landmarks);
   const std::size_t peak =
       static_cast<std::size_t>(std::max_element(s.flow.begin(), s.flow.end()) - s.flow.begin());
-  CycleFrames c{{s.frames[peak], "peak systole"}, std::nullopt};
+  CycleFrames c{{s.frames[peak], "peak systole"}, std::nullopt, s.frames};
   std::size_t end_systole = peak;
   while (end_systole < s.flow.size() && s.flow[end_systole] >= 0.1 * s.flow[peak])
     ++end_systole;

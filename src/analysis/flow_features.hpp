@@ -50,6 +50,7 @@ struct CycleFrames {
   /// systole the first frame after the peak whose inlet flow falls below a tenth of the
   /// peak's; none when the flow never falls that far.
   std::optional<PictureFrame> mid_diastole;
+  std::vector<FlowFrame> frames; ///< those frames, in time order (for an animation)
 };
 
 CycleFrames cycle_frames(const std::filesystem::path& run_dir,

@@ -64,6 +64,9 @@ std::optional<RunPictures> run_pictures(const std::filesystem::path& run_dir) {
   p.time = f.value("time_s", 0.0);
   for (const json& picture : f.value("pictures", json::array()))
     p.files.push_back(picture.value("file", ""));
+  // The animation over the cycle (`--animate`) lies beside the frames' folders.
+  if (j.contains("animation") && j["animation"].is_object())
+    p.files.push_back("../" + j["animation"].value("file", ""));
   return p;
 }
 

@@ -1,6 +1,8 @@
 #include "report/pictures_command.hpp"
 
+#include <algorithm>
 #include <map>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +15,7 @@
 #include "core/file_layout.hpp"
 #include "core/units.hpp"
 #include "io/durable_file.hpp"
+#include "report/apng.hpp"
 #include "report/flow_pictures.hpp"
 
 namespace tearflow::report {
@@ -100,6 +103,43 @@ json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks
   return out;
 }
 
+/// The streamlines of every frame of the cycle from one view (the flap's, else the first),
+/// each frame's PNG in animation/ and the animated PNG beside the frame folders.
+json animate(const analysis::CycleFrames& cycle, const geometry::Landmark& seed,
+             const std::vector<View>& views, const PicturesOptions& o, const fs::path& out) {
+  const View& view = views.back().name == "flap" ? views.back() : views.front();
+  const fs::path dir = out / "animation";
+  fs::create_directories(dir);
+  std::vector<fs::path> pngs;
+  analysis::StreamlineOptions so;
+  so.seed_spacing = o.seed_spacing;
+  for (std::size_t i = 0; i < cycle.frames.size(); ++i) {
+    const analysis::FlowFrame& f = cycle.frames[i];
+    const auto fluid = analysis::read_flow_frame(f.file);
+    const auto lines = analysis::trace_streamlines(fluid, seed, so, f.file.string());
+    const std::string stem = fmt::format("streamlines_{:03d}", i);
+    render_streamlines(lines, boundary_surface(fluid), {view}, {"speed [m/s]", 0.0, o.speed_max},
+                       fmt::format("streamlines from {}, t = {} s", seed.name, f.time), dir, stem);
+    pngs.push_back(dir / (stem + "_" + view.name + ".png"));
+  }
+  // The cycle in about 4 s however many frames were saved (20-500 ms each).
+  const int delay_ms = std::clamp(static_cast<int>(4000 / pngs.size()), 20, 500);
+  const fs::path file = out / ("streamlines_" + view.name + "_animation.png");
+  write_apng(pngs, delay_ms, file);
+  if (!o.quiet)
+    fmt::print("animation of {} frames: '{}'\n", pngs.size(), file.string());
+  return {{"file", file.filename().string()},
+          {"view", view.name},
+          {"frames", pngs.size()},
+          {"frame_delay_ms", delay_ms},
+          {"frame_times_s", [&] {
+             json t = json::array();
+             for (const analysis::FlowFrame& f : cycle.frames)
+               t.push_back(f.time);
+             return t;
+           }()}};
+}
+
 } // namespace
 
 int make_pictures(const PicturesOptions& o) {
@@ -126,13 +166,15 @@ int make_pictures(const PicturesOptions& o) {
   // The frames: the one asked for, else peak systole for everything and mid-diastole for the
   // plane maps.
   std::vector<analysis::PictureFrame> frames;
+  std::optional<analysis::CycleFrames> cycle;
+  if (o.time < 0 || o.animate)
+    cycle = analysis::cycle_frames(o.run_dir, landmarks);
   if (o.time >= 0) {
     frames.push_back(analysis::frame_at(o.run_dir, o.time));
   } else {
-    const analysis::CycleFrames cycle = analysis::cycle_frames(o.run_dir, landmarks);
-    frames.push_back(cycle.peak_systole);
-    if (cycle.mid_diastole)
-      frames.push_back(*cycle.mid_diastole);
+    frames.push_back(cycle->peak_systole);
+    if (cycle->mid_diastole)
+      frames.push_back(*cycle->mid_diastole);
   }
   const std::vector<View> views = standard_views(landmarks);
   json record = {{"run", o.run_dir},
@@ -188,6 +230,8 @@ int make_pictures(const PicturesOptions& o) {
       fmt::print("{} (t = {} s): {} pictures in '{}'\n", f.event, f.frame.time, pictures.size(),
                  dir.string());
   }
+  if (o.animate && o.png)
+    record["animation"] = animate(*cycle, seed, views, o, out);
   io::write_file_atomically(out / "pictures.json", record.dump(2) + "\n");
   if (!o.quiet)
     fmt::print("wrote '{}'\n", (out / "pictures.json").string());
@@ -225,6 +269,8 @@ PicturesCommand::PicturesCommand(CLI::App& app) {
   command_->add_option("-o,--output", options_.output,
                        "output directory (default RUN_DIR/analysis/figures/flow)");
   command_->add_flag("--no-png", no_png_, "the VTP files and pictures.json only, no rendering");
+  command_->add_flag("--animate", options_.animate,
+                     "also the streamlines of every frame of the cycle as an animated PNG");
   command_->add_flag("-q,--quiet", options_.quiet, "no summary lines");
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // `tearflow pictures RUN_DIR [--model DIR | --landmarks FILE] [--time T] [--seed LANDMARK]
-// [--speed-max M] [--displacement-max-mm D] [--no-png] [-o DIR]`: the flow-pattern figures
-// of a run (issue 30, docs/analysis.md "Flow pictures"): streamlines at peak systole (or the
-// frame nearest T) from standard views, plane maps at every landmark at peak systole and
+// [--speed-max M] [--displacement-max-mm D] [--animate] [--no-png] [-o DIR]`: the flow-pattern
+// figures of a run (issue 30, docs/analysis.md "Flow pictures"): streamlines at peak systole (or
+// the frame nearest T) from standard views, plane maps at every landmark at peak systole and
 // mid-diastole, the wall's displacement of an FSI run; the geometry as VTP beside the PNGs,
 // and pictures.json saying what each file shows and on which colour scale.
 #include <string>
@@ -18,6 +18,9 @@ struct PicturesOptions {
   double displacement_max = 2e-3; ///< top of the displacement scale [m]
   double seed_spacing = 0.0;      ///< [m]; 0: the seed section's equivalent diameter / 10
   bool png = true, quiet = false;
+  /// Also the streamlines of every frame of the cycle as one animated PNG (first view with
+  /// the tears face on, else anterior).
+  bool animate = false;
 };
 
 /// Makes the pictures; returns the exit code. InputError for bad input (a missing run
