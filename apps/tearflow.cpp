@@ -7,6 +7,7 @@
 //   --frames all]   (docs/analysis.md) tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]
 //   (docs/analysis.md) tearflow study STUDY.yaml [--check] (docs/study.md) tearflow mri
 //   synthesize|flow|compare ...                                 (docs/mri.md)
+//   tearflow pictures RUN_DIR [--time T] [--seed L] [--animate]  (docs/analysis.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>

@@ -37,8 +37,15 @@ std::string folder_of(const analysis::PictureFrame& f) {
 /// The landmark streamlines start from: the option's, else inlet, else AAo, else the first.
 const geometry::Landmark& seed_landmark(const geometry::Landmarks& landmarks,
                                         const std::string& name) {
-  if (!name.empty())
-    return landmarks.plane(name); // InputError listing the names
+  if (!name.empty()) {
+    std::string known;
+    for (const geometry::Landmark& l : landmarks.planes) {
+      if (l.name == name)
+        return l;
+      known += " " + l.name;
+    }
+    input_error("pictures: --seed {}: no such landmark; the planes are:{}", name, known);
+  }
   for (const char* preferred : {"inlet", "AAo"})
     for (const geometry::Landmark& l : landmarks.planes)
       if (l.name == preferred)
