@@ -7,6 +7,7 @@
 //   --frames all]   (docs/analysis.md) tearflow report RUN_DIR [RUN_DIR...] [-o FILE] [--png]
 //   (docs/analysis.md) tearflow study STUDY.yaml [--check] (docs/study.md) tearflow mri
 //   synthesize|flow|compare ...                                 (docs/mri.md)
+//   tearflow pictures RUN_DIR [--time T] [--seed L] [--animate]  (docs/analysis.md)
 // PETSc options go after `--` (or in the case file's petsc_options); those on the command
 // line win over the case file's.
 #include <cstdio>
@@ -29,6 +30,7 @@
 #include "geometry/geometry_command.hpp"
 #include "io/case.hpp"
 #include "mri/mri_command.hpp"
+#include "report/pictures_command.hpp"
 #include "report/report_command.hpp"
 #include "rom/rom_command.hpp"
 #include "run/default_case.hpp"
@@ -299,6 +301,7 @@ int main(int argc, char** argv) {
   const tuning::TuneCommand tune_command(app);
   const analysis::AnalyzeCommand analyze_command(app);
   const report::ReportCommand report_command(app);
+  const report::PicturesCommand pictures_command(app);
   const study::StudyCommand study_command(app);
   const mri::MriCommand mri_command(app);
   const rom::RomCommand rom_command(app);
@@ -315,8 +318,8 @@ int main(int argc, char** argv) {
     }
     // Serial commands: one rank writes.
     const bool serial = geometry_command.selected() || analyze_command.selected() ||
-                        report_command.selected() || mri_command.selected() ||
-                        rom_command.selected();
+                        report_command.selected() || pictures_command.selected() ||
+                        mri_command.selected() || rom_command.selected();
     if (geometry_command.selected())
       code = on_one_rank("geometry", [&] { return geometry_command.run(); });
     if (tune_command.selected())
@@ -325,6 +328,8 @@ int main(int argc, char** argv) {
       code = on_one_rank("analyze", [&] { return analyze_command.run(); });
     if (report_command.selected())
       code = on_one_rank("report", [&] { return report_command.run(); });
+    if (pictures_command.selected())
+      code = on_one_rank("pictures", [&] { return pictures_command.run(); });
     if (study_command.selected())
       code = study_command.run();
     if (mri_command.selected())

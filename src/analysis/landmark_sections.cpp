@@ -17,6 +17,7 @@
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+#include <vtkGeometryFilter.h>
 #include <vtkIntegrateAttributes.h>
 #include <vtkPlane.h>
 #include <vtkPointData.h>
@@ -127,8 +128,8 @@ PlaneSection cut(vtkUnstructuredGrid* grid, const Vec3& origin, const Vec3& norm
   return s;
 }
 
-/// Integrals over region `region` of a section.
-SectionValues integrate(vtkPointSet* regions, vtkIdType region) {
+/// The cells of region `region` of a section.
+vtkSmartPointer<vtkUnstructuredGrid> region_cells(vtkPointSet* regions, vtkIdType region) {
   auto threshold = vtkSmartPointer<vtkThreshold>::New();
   threshold->SetInputData(regions);
   threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kRegion);
@@ -136,7 +137,13 @@ SectionValues integrate(vtkPointSet* regions, vtkIdType region) {
   threshold->SetUpperThreshold(static_cast<double>(region) + 0.5);
   threshold->SetThresholdFunction(vtkThreshold::THRESHOLD_BETWEEN);
   threshold->Update();
-  vtkUnstructuredGrid* piece = threshold->GetOutput();
+  return threshold->GetOutput();
+}
+
+/// Integrals over region `region` of a section.
+SectionValues integrate(vtkPointSet* regions, vtkIdType region) {
+  const vtkSmartPointer<vtkUnstructuredGrid> cells = region_cells(regions, region);
+  vtkUnstructuredGrid* piece = cells;
   auto integrator = vtkSmartPointer<vtkIntegrateAttributes>::New();
   integrator->SetInputData(piece);
   integrator->Update();
@@ -334,6 +341,35 @@ vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path
   if (grid->GetPointData()->GetArray("pressure") == nullptr)
     input_error("frame '{}': no point field 'pressure'", vtu.string());
   return deformed_fluid(grid, vtu);
+}
+
+vtkSmartPointer<vtkPolyData> lumen_section(vtkUnstructuredGrid* grid, const geometry::Landmark& l,
+                                           const std::string& frame) {
+  const Vec3 n = unit(l.normal);
+  const PlaneSection section = cut(grid, l.origin, n);
+  if (!section.regions)
+    input_error("{}: the plane of landmark '{}' (origin ({:.2f}, {:.2f}, {:.2f}) mm) misses "
+                "the fluid mesh",
+                frame, l.name, l.origin[0] / units::mm, l.origin[1] / units::mm,
+                l.origin[2] / units::mm);
+  const Vec3 p = l.point.value_or(l.origin);
+  const Vec3 q = p - dot(p - l.origin, n) * n;
+  const auto [region, distance] = section.region_at(q);
+  const vtkSmartPointer<vtkUnstructuredGrid> cells = region_cells(section.regions, region);
+  auto surface = vtkSmartPointer<vtkGeometryFilter>::New();
+  surface->SetInputData(cells);
+  surface->Update();
+  vtkSmartPointer<vtkPolyData> out = surface->GetOutput();
+  auto sums = vtkSmartPointer<vtkIntegrateAttributes>::New();
+  sums->SetInputData(cells);
+  sums->Update();
+  const double area = sums->GetOutput()->GetCellData()->GetArray("Area")->GetTuple1(0);
+  if (distance > kPointSlack * std::sqrt(area / M_PI))
+    input_error("{}: landmark '{}': its lumen point ({:.2f}, {:.2f}, {:.2f}) mm is not inside "
+                "the fluid section of its plane (nearest fluid {:.2f} mm away)",
+                frame, l.name, q[0] / units::mm, q[1] / units::mm, q[2] / units::mm,
+                distance / units::mm);
+  return out;
 }
 
 std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,

@@ -23,6 +23,7 @@
 #include "analysis/conservative_flux.hpp"
 #include "geometry/landmarks.hpp"
 
+class vtkPolyData;
 class vtkUnstructuredGrid;
 
 namespace tearflow::analysis {
@@ -74,6 +75,14 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
                                              const std::string& frame,
                                              const ContinuityState* state = nullptr,
                                              const ContinuityForm* form = nullptr);
+
+/// The fluid section of one landmark's lumen, as measure_landmarks picks it: the polygons of
+/// the connected region of the plane's section that holds the landmark's lumen point, with
+/// the frame's point fields and `through_plane_velocity` u.n [m/s]. InputError naming the
+/// landmark and `frame` when the plane misses the fluid or the point is not in its section.
+vtkSmartPointer<vtkPolyData> lumen_section(vtkUnstructuredGrid* grid,
+                                           const geometry::Landmark& landmark,
+                                           const std::string& frame);
 
 /// The station number k of a paired landmark "TLk" / "FLk" (0 for other names).
 int station_of(const geometry::Landmark& landmark);

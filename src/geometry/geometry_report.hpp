@@ -51,8 +51,8 @@ GeometryReport report_geometry(const std::filesystem::path& dir, const std::file
                                bool print = true);
 
 /// Renders the model (wall translucent, fluid faces, tears and landmark planes) off-screen
-/// into a PNG. Needs an X display (DISPLAY, e.g. under xvfb-run); InputError saying so if
-/// there is none.
+/// into a PNG. Without an X display (DISPLAY) it starts a virtual one (core/virtual_display.hpp);
+/// InputError when it cannot.
 void render_geometry(const mesh::Mesh& mesh, const Landmarks& landmarks,
                      const std::filesystem::path& png);
 

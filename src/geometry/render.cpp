@@ -2,7 +2,6 @@
 // half-transparent with the tears' rims in red, the caps coloured, and a disk at every
 // landmark plane. Viewed along the flap's normal, so the tears are seen face-on.
 #include <cmath>
-#include <cstdlib>
 #include <map>
 #include <set>
 
@@ -22,6 +21,7 @@
 #include <vtkWindowToImageFilter.h>
 
 #include "core/error.hpp"
+#include "core/virtual_display.hpp"
 #include "geometry/geometry_report.hpp"
 
 // The rendering classes come from object factories that these modules register; without
@@ -94,12 +94,9 @@ bool on_tear(const mesh::Mesh& m, const Tri& t, const TearLandmark& tear) {
 
 void render_geometry(const mesh::Mesh& m, const Landmarks& landmarks,
                      const std::filesystem::path& png) {
-  // Debian's VTK renders through GLX even off-screen; without an X server it aborts.
-  const char* display = std::getenv("DISPLAY");
-  if (!display || !*display)
-    input_error("cannot render '{}': no X display (DISPLAY is not set); run under a virtual X "
-                "server, e.g. `xvfb-run -a tearflow geometry report DIR`, or pass --no-png",
-                png.string());
+  // Debian's VTK renders through GLX even off-screen; without an X server it aborts, so
+  // one of our own is started when there is none.
+  ensure_display(fmt::format("cannot render '{}' (or pass --no-png)", png.string()));
   vtkNew<vtkRenderer> renderer;
   renderer->SetBackground(1, 1, 1);
   std::vector<Tri> lumen_wall, tear_rims;

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
 #include "io/vtu_series.hpp"
+#include "report/flow_section.hpp"
 #include "report/report.hpp"
 #include "report/report_mri.hpp"
 
@@ -85,18 +86,26 @@ int ReportCommand::run() const {
   std::vector<nlohmann::json> runs;
   const nlohmann::json mri = mri_.empty() ? nlohmann::json() : report_mri_data(mri_);
   const std::string sweep = rom_sweep_.empty() ? std::string() : sweep_section(rom_sweep_);
+  std::vector<std::filesystem::path> dirs;
+  std::vector<std::string> names;
   for (const std::string& dir : run_dirs_) {
     const std::filesystem::path analysis = RunFiles{dir}.analysis_dir();
     runs.push_back(report_run_data(dir, analysis));
-    write_page(with_section(report_html({runs.back()}, mri), sweep), analysis / "report.html", png_,
-               analysis / "figures", chromium_, quiet_);
+    dirs.push_back(dir);
+    names.push_back(runs.back()["name"].get<std::string>());
+    // The flow pictures of `tearflow pictures`, when the run has them.
+    const std::string flow = flow_patterns_section({dirs.back()}, {names.back()});
+    write_page(with_section(report_html({runs.back()}, mri), sweep + flow),
+               analysis / "report.html", png_, analysis / "figures", chromium_, quiet_);
   }
   if (runs.size() > 1) {
+    const std::string flow = flow_patterns_section(dirs, names);
     const std::filesystem::path page = comparison_;
     std::filesystem::path figures = page;
     figures.replace_extension("");
     figures += "_figures";
-    write_page(with_section(report_html(runs, mri), sweep), page, png_, figures, chromium_, quiet_);
+    write_page(with_section(report_html(runs, mri), sweep + flow), page, png_, figures, chromium_,
+               quiet_);
   }
   return 0;
 }

@@ -1,0 +1,16 @@
+#pragma once
+// An animated PNG (APNG, W3C PNG 3rd edition: acTL, fcTL, fdAT chunks) from PNG pictures of
+// one size: every browser plays it in an <img>, so the report's animations need no video
+// codec and stay inside the self-contained page.
+#include <filesystem>
+#include <vector>
+
+namespace tearflow::report {
+
+/// Joins `frames` (PNG files of equal size and pixel format) into the looping animation
+/// `out`, each frame shown `delay_ms` milliseconds. InputError naming a frame that is not a
+/// PNG or differs from the first in size or format, or `out` when it cannot be written.
+void write_apng(const std::vector<std::filesystem::path>& frames, int delay_ms,
+                const std::filesystem::path& out);
+
+} // namespace tearflow::report

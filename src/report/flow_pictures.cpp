@@ -1,0 +1,322 @@
+#include "report/flow_pictures.hpp"
+
+#include <cmath>
+
+#include <vtkActor.h>
+#include <vtkArrowSource.h>
+#include <vtkAutoInit.h>
+#include <vtkCamera.h>
+#include <vtkDoubleArray.h>
+#include <vtkFeatureEdges.h>
+#include <vtkGeometryFilter.h>
+#include <vtkGlyph3D.h>
+#include <vtkLookupTable.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkScalarsToColors.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkWindowToImageFilter.h>
+
+#include "core/error.hpp"
+#include "core/virtual_display.hpp"
+
+// The rendering classes come from object factories these modules register (the text of the
+// scalar bar and the caption from FreeType's).
+VTK_MODULE_INIT(vtkRenderingOpenGL2);
+VTK_MODULE_INIT(vtkRenderingFreeType);
+
+namespace tearflow::report {
+
+namespace {
+
+constexpr const char* kDisplacementMm = "displacement_magnitude_mm";
+// The model's share of the picture's width; the colour legend has the rest.
+constexpr double kModelWidth = 0.82;
+
+/// Blue (low) to red (high) through the rainbow's middle: the convention of flow pictures,
+/// where readers look for the fast jet in red.
+vtkSmartPointer<vtkLookupTable> speed_table(const ColourScale& scale) {
+  auto table = vtkSmartPointer<vtkLookupTable>::New();
+  table->SetHueRange(0.667, 0.0);
+  table->SetTableRange(scale.min, scale.max);
+  table->SetNumberOfTableValues(256);
+  table->Build();
+  return table;
+}
+
+/// Blue (against the normal, backflow) - white (0) - red (along it) for the through-plane
+/// velocity, so that reversed flow stands out.
+vtkSmartPointer<vtkLookupTable> diverging_table(const ColourScale& scale) {
+  auto table = vtkSmartPointer<vtkLookupTable>::New();
+  table->SetNumberOfTableValues(256);
+  table->SetTableRange(scale.min, scale.max);
+  for (int i = 0; i < 256; ++i) {
+    const double s = i / 255.0; // 0 blue, 0.5 white, 1 red
+    const double r = s < 0.5 ? 2 * s : 1.0, b = s < 0.5 ? 1.0 : 2 * (1 - s);
+    const double g = s < 0.5 ? 2 * s : 2 * (1 - s);
+    table->SetTableValue(i, r, g, b, 1.0);
+  }
+  return table;
+}
+
+vtkNew<vtkScalarBarActor> scalar_bar(vtkLookupTable* table, const ColourScale& scale) {
+  vtkNew<vtkScalarBarActor> bar;
+  bar->SetLookupTable(table);
+  bar->SetTitle(scale.title.c_str());
+  bar->SetNumberOfLabels(5);
+  bar->SetLabelFormat("%.2g");
+  // In the legend's own viewport (write_png), so that it never covers the model.
+  bar->SetPosition(0.2, 0.1);
+  bar->SetWidth(0.6);
+  bar->SetHeight(0.8);
+  bar->UnconstrainedFontSizeOn();
+  for (vtkTextProperty* text : {bar->GetTitleTextProperty(), bar->GetLabelTextProperty()}) {
+    text->SetColor(0, 0, 0);
+    text->ItalicOff();
+    text->ShadowOff();
+    text->BoldOff();
+    text->SetFontSize(16);
+  }
+  return bar;
+}
+
+vtkNew<vtkTextActor> caption_actor(const std::string& caption) {
+  vtkNew<vtkTextActor> text;
+  text->SetInput(caption.c_str());
+  text->GetTextProperty()->SetColor(0, 0, 0);
+  text->GetTextProperty()->SetFontSize(18);
+  text->SetPosition(12, 12);
+  return text;
+}
+
+vtkNew<vtkActor> coloured_actor(vtkPolyData* data, const char* array, vtkLookupTable* table,
+                                const ColourScale& scale) {
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(data);
+  mapper->SetScalarModeToUsePointFieldData();
+  mapper->SelectColorArray(array);
+  mapper->SetLookupTable(table);
+  mapper->SetScalarRange(scale.min, scale.max);
+  mapper->UseLookupTableScalarRangeOn();
+  mapper->ScalarVisibilityOn();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  return actor;
+}
+
+vtkNew<vtkActor> plain_actor(vtkPolyData* data, const std::array<double, 3>& rgb, double opacity) {
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(data);
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  actor->GetProperty()->SetOpacity(opacity);
+  return actor;
+}
+
+/// Points the camera along `view` at everything the renderer holds.
+void look(vtkRenderer* renderer, const View& view) {
+  renderer->ResetCamera();
+  vtkCamera* camera = renderer->GetActiveCamera();
+  double focal[3];
+  camera->GetFocalPoint(focal);
+  const double d = camera->GetDistance();
+  camera->SetPosition(focal[0] + d * view.from[0], focal[1] + d * view.from[1],
+                      focal[2] + d * view.from[2]);
+  camera->SetViewUp(view.up[0], view.up[1], view.up[2]);
+  renderer->ResetCamera();
+  renderer->ResetCameraClippingRange();
+}
+
+/// Renders `renderer` into `png`; InputError when no picture results.
+Picture write_png(vtkRenderer* renderer, vtkScalarBarActor* bar, const PictureSize& size,
+                  const std::filesystem::path& png) {
+  ensure_display(fmt::format("render '{}'", png.string()));
+  vtkNew<vtkRenderer> legend;
+  legend->SetViewport(kModelWidth, 0.0, 1.0, 1.0);
+  legend->SetBackground(1, 1, 1);
+  legend->AddActor2D(bar);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(0); // multisampled buffers cannot be read back off-screen
+  window->AddRenderer(renderer);
+  window->AddRenderer(legend);
+  window->SetSize(size.width, size.height);
+  window->Render();
+  vtkNew<vtkWindowToImageFilter> image;
+  image->SetInput(window);
+  image->ReadFrontBufferOff();
+  image->Update();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(png.c_str());
+  writer->SetInputConnection(image->GetOutputPort());
+  writer->Write();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(png, ec) || std::filesystem::file_size(png, ec) == 0)
+    input_error("cannot render '{}': VTK wrote no picture", png.string());
+  const double* range = bar->GetLookupTable()->GetRange();
+  return {png, bar->GetTitle(), range[0], range[1]};
+}
+
+vtkNew<vtkRenderer> white_renderer() {
+  vtkNew<vtkRenderer> renderer;
+  renderer->SetBackground(1, 1, 1);
+  renderer->SetViewport(0.0, 0.0, kModelWidth, 1.0);
+  return renderer;
+}
+
+} // namespace
+
+std::vector<View> standard_views(const geometry::Landmarks& landmarks) {
+  std::vector<View> views = {{"anterior", {0, -1, 0}, {0, 0, 1}},
+                             {"left-lateral", {1, 0, 0}, {0, 0, 1}}};
+  if (!landmarks.tears.empty()) {
+    const Vec3 n = landmarks.tears.front().normal;
+    // Up is the head's direction as far as it is not the viewing direction.
+    Vec3 up = Vec3{0, 0, 1} - n[2] * n;
+    if (dot(up, up) < 1e-6)
+      up = {0, 1, 0};
+    views.push_back({"flap", n, up});
+  }
+  return views;
+}
+
+vtkSmartPointer<vtkPolyData> boundary_surface(vtkUnstructuredGrid* volume) {
+  auto surface = vtkSmartPointer<vtkGeometryFilter>::New();
+  surface->SetInputData(volume);
+  surface->Update();
+  return surface->GetOutput();
+}
+
+std::vector<Picture> render_streamlines(vtkPolyData* streamlines, vtkPolyData* lumen,
+                                        const std::vector<View>& views, const ColourScale& speed,
+                                        const std::string& caption,
+                                        const std::filesystem::path& directory,
+                                        const std::string& stem, const PictureSize& size) {
+  const auto table = speed_table(speed);
+  std::vector<Picture> written;
+  for (const View& view : views) {
+    auto renderer = white_renderer();
+    auto lines = coloured_actor(streamlines, analysis::kSpeedArray, table, speed);
+    lines->GetProperty()->SetLineWidth(2.0);
+    renderer->AddActor(lines);
+    auto wall = plain_actor(lumen, {0.75, 0.6, 0.55}, 0.12);
+    renderer->AddActor(wall);
+    auto bar = scalar_bar(table, speed);
+    renderer->AddActor2D(caption_actor(caption + ", " + view.name));
+    look(renderer, view);
+    written.push_back(
+        write_png(renderer, bar, size, directory / (stem + "_" + view.name + ".png")));
+  }
+  return written;
+}
+
+Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
+                         const ColourScale& through_plane, double arrow_speed,
+                         const std::string& caption, const std::filesystem::path& png,
+                         const PictureSize& size) {
+  if (maps.empty())
+    input_error("cannot render '{}': no section", png.string());
+  const auto table = diverging_table(through_plane);
+  auto renderer = white_renderer();
+  for (const analysis::PlaneMap* m : maps) {
+    renderer->AddActor(
+        coloured_actor(m->section, analysis::kThroughPlaneArray, table, through_plane));
+    vtkNew<vtkFeatureEdges> rim;
+    rim->SetInputData(m->section);
+    rim->BoundaryEdgesOn();
+    rim->FeatureEdgesOff();
+    rim->NonManifoldEdgesOff();
+    rim->ManifoldEdgesOff();
+    rim->ColoringOff();
+    rim->Update();
+    const std::array<double, 3> rgb = m->landmark.lumen == "TL"   ? std::array{0.0, 0.2, 0.9}
+                                      : m->landmark.lumen == "FL" ? std::array{0.85, 0.0, 0.0}
+                                                                  : std::array{0.0, 0.0, 0.0};
+    auto outline = plain_actor(rim->GetOutput(), rgb, 1.0);
+    outline->GetProperty()->SetLineWidth(3.0);
+    renderer->AddActor(outline);
+    if (m->vectors->GetNumberOfPoints() == 0)
+      continue;
+    vtkNew<vtkArrowSource> arrow;
+    vtkNew<vtkGlyph3D> arrows;
+    arrows->SetInputData(m->vectors);
+    arrows->SetSourceConnection(arrow->GetOutputPort());
+    arrows->SetInputArrayToProcess(1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS,
+                                   analysis::kInPlaneArray);
+    arrows->SetVectorModeToUseVector();
+    arrows->SetScaleModeToScaleByVector();
+    arrows->OrientOn();
+    arrows->SetScaleFactor(1.5 * m->vector_spacing / arrow_speed);
+    arrows->Update();
+    renderer->AddActor(plain_actor(arrows->GetOutput(), {0, 0, 0}, 1.0));
+  }
+  auto bar = scalar_bar(table, through_plane);
+  renderer->AddActor2D(caption_actor(caption));
+  // From upstream, looking down the plane's normal; up the head's direction in the plane.
+  const Vec3 n = maps.front()->landmark.normal;
+  const double nn = std::sqrt(dot(n, n));
+  const Vec3 from = (-1.0 / nn) * n;
+  Vec3 up = Vec3{0, 0, 1} - (dot(Vec3{0, 0, 1}, from)) * from;
+  if (dot(up, up) < 1e-6)
+    up = Vec3{0, 1, 0} - (dot(Vec3{0, 1, 0}, from)) * from;
+  look(renderer, {"plane", from, up});
+  return write_png(renderer, bar, size, png);
+}
+
+std::vector<Picture> render_wall_displacement(vtkPolyData* wall, const std::vector<View>& views,
+                                              const ColourScale& displacement,
+                                              const std::string& caption,
+                                              const std::filesystem::path& directory,
+                                              const std::string& stem, const PictureSize& size) {
+  vtkDataArray* d = wall->GetPointData()->GetArray("displacement");
+  if (d == nullptr || d->GetNumberOfComponents() != 3)
+    input_error("cannot render '{}': the wall has no point field 'displacement' with 3 "
+                "components",
+                (directory / stem).string());
+  // The deformed wall, coloured by |d| in mm (the unit its scale states).
+  vtkNew<vtkPolyData> moved;
+  moved->ShallowCopy(wall);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(wall->GetNumberOfPoints());
+  vtkNew<vtkDoubleArray> magnitude;
+  magnitude->SetName(kDisplacementMm);
+  magnitude->SetNumberOfTuples(wall->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < wall->GetNumberOfPoints(); ++i) {
+    double x[3], u[3];
+    wall->GetPoint(i, x);
+    d->GetTuple(i, u);
+    points->SetPoint(i, x[0] + u[0], x[1] + u[1], x[2] + u[2]);
+    magnitude->SetValue(i, 1e3 * std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+  }
+  moved->SetPoints(points);
+  moved->GetPointData()->AddArray(magnitude);
+  const auto table = speed_table(displacement);
+  std::vector<Picture> written;
+  for (const View& view : views) {
+    auto renderer = white_renderer();
+    auto surface = coloured_actor(moved, kDisplacementMm, table, displacement);
+    surface->GetProperty()->SetOpacity(0.5);
+    renderer->AddActor(surface);
+    auto bar = scalar_bar(table, displacement);
+    renderer->AddActor2D(caption_actor(caption + ", " + view.name));
+    look(renderer, view);
+    written.push_back(
+        write_png(renderer, bar, size, directory / (stem + "_" + view.name + ".png")));
+  }
+  return written;
+}
+
+} // namespace tearflow::report

@@ -1,0 +1,83 @@
+#pragma once
+// Off-screen pictures of the flow (issue 30): streamlines coloured by speed inside the
+// translucent lumen from standard views, plane maps of the landmark sections, and the wall's
+// displacement magnitude of an FSI run. The geometry comes from analysis/flow_features.hpp;
+// each colour scale is fixed by the caller (the same for every run and frame, so pictures
+// compare) and stated on the picture's scalar bar with its unit. Renders through VTK's
+// OpenGL2 window, off-screen, on this process's X display (core/virtual_display.hpp starts
+// one when there is none).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "analysis/flow_features.hpp"
+#include "core/types.hpp"
+
+class vtkPolyData;
+class vtkUnstructuredGrid;
+
+namespace tearflow::report {
+
+/// A camera direction: the picture looks from `from` (unit vector from the model's centre
+/// toward the camera), `up` upward on the picture.
+struct View {
+  std::string name; ///< in file names: "anterior", "left-lateral", "flap"
+  Vec3 from{}, up{};
+};
+
+/// The standard views: anterior (from -y) and left lateral (from +x), the model's axes read
+/// as patient LPS (x toward the patient's left, y posterior, z head), and along the flap's
+/// normal (the first tear's), which shows the tears face on, when the landmarks have tears.
+std::vector<View> standard_views(const geometry::Landmarks& landmarks);
+
+/// A fixed colour scale and what it shows.
+struct ColourScale {
+  std::string title; ///< on the scalar bar, with the unit: "speed [m/s]"
+  double min = 0.0, max = 1.0;
+};
+
+/// A picture written, with the colour scale its scalar bar shows (read back from the bar's
+/// lookup table after rendering: what the reader sees, not what was asked for).
+struct Picture {
+  std::filesystem::path file;
+  std::string scale_title;
+  double scale_min = 0.0, scale_max = 0.0;
+};
+
+struct PictureSize {
+  int width = 900, height = 1100; ///< [pixels]
+};
+
+/// Streamlines (point array `speed`) coloured on `speed`'s scale inside `lumen` (the fluid's
+/// boundary surface, translucent), one PNG per view: `<stem>_<view>.png` in `directory`.
+/// Returns the pictures written; InputError naming a PNG VTK did not write.
+std::vector<Picture> render_streamlines(vtkPolyData* streamlines, vtkPolyData* lumen,
+                                        const std::vector<View>& views, const ColourScale& speed,
+                                        const std::string& caption,
+                                        const std::filesystem::path& directory,
+                                        const std::string& stem, const PictureSize& size = {});
+
+/// One plane's map: each section (one, or TLk and FLk of a paired station) coloured by its
+/// through-plane velocity on `through_plane`'s scale, its rim outlined (true lumen blue, false
+/// red, else black), the in-plane velocity as black arrows (an arrow of length 1.5 grid
+/// spacings at `arrow_speed` [m/s]); seen from upstream along the plane's normal.
+Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
+                         const ColourScale& through_plane, double arrow_speed,
+                         const std::string& caption, const std::filesystem::path& png,
+                         const PictureSize& size = {700, 700});
+
+/// The wall's surface (point array `displacement` [m]) moved by its displacement and
+/// coloured by its magnitude on `displacement`'s scale (in mm: title "... [mm]"), one PNG per
+/// view: `<stem>_<view>.png`. The wall is drawn half-transparent so that the flap shows
+/// through the outer wall.
+std::vector<Picture> render_wall_displacement(vtkPolyData* wall, const std::vector<View>& views,
+                                              const ColourScale& displacement,
+                                              const std::string& caption,
+                                              const std::filesystem::path& directory,
+                                              const std::string& stem,
+                                              const PictureSize& size = {});
+
+/// The boundary surface of a volume mesh (the lumen of a fluid grid, the wall of a wall grid).
+vtkSmartPointer<vtkPolyData> boundary_surface(vtkUnstructuredGrid* volume);
+
+} // namespace tearflow::report

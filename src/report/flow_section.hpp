@@ -1,0 +1,22 @@
+#pragma once
+// The "Flow patterns" section of the report pages (issue 30): the pictures `tearflow
+// pictures` made of each run (RUN_DIR/analysis/figures/flow/, pictures.json), embedded in the
+// page as PNG data so that it stays one self-contained file; on a comparison page the runs
+// side by side, one column each, picture by picture.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace tearflow::report {
+
+/// The folder `tearflow pictures` writes into by default.
+std::filesystem::path flow_pictures_dir(const std::filesystem::path& run_dir);
+
+/// The section for `run_dirs` (their names as the page shows them): every picture of the
+/// first frame (peak systole, or the frame asked for) of each run that has pictures, in the
+/// order of the first such run; empty when none has. InputError naming pictures.json when
+/// it is not valid JSON.
+std::string flow_patterns_section(const std::vector<std::filesystem::path>& run_dirs,
+                                  const std::vector<std::string>& names);
+
+} // namespace tearflow::report

@@ -1,0 +1,292 @@
+#include "report/pictures_command.hpp"
+
+#include <algorithm>
+#include <map>
+#include <optional>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <vtkAbstractCellLocator.h>
+#include <vtkPolyData.h>
+#include <vtkUnstructuredGrid.h>
+
+#include "analysis/flow_features.hpp"
+#include "core/error.hpp"
+#include "core/file_layout.hpp"
+#include "core/units.hpp"
+#include "io/durable_file.hpp"
+#include "report/apng.hpp"
+#include "report/flow_pictures.hpp"
+
+namespace tearflow::report {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+/// A folder name for a frame: "peak-systole", "mid-diastole", "t-0.25s".
+std::string folder_of(const analysis::PictureFrame& f) {
+  if (f.event == "peak systole")
+    return "peak-systole";
+  if (f.event == "mid-diastole")
+    return "mid-diastole";
+  return fmt::format("t-{}s", f.frame.time);
+}
+
+/// The landmark streamlines start from: the option's, else inlet, else AAo, else the first.
+const geometry::Landmark& seed_landmark(const geometry::Landmarks& landmarks,
+                                        const std::string& name) {
+  if (!name.empty()) {
+    std::string known;
+    for (const geometry::Landmark& l : landmarks.planes) {
+      if (l.name == name)
+        return l;
+      known += " " + l.name;
+    }
+    input_error("pictures: --seed {}: no such landmark; the planes are:{}", name, known);
+  }
+  for (const char* preferred : {"inlet", "AAo"})
+    for (const geometry::Landmark& l : landmarks.planes)
+      if (l.name == preferred)
+        return l;
+  if (landmarks.planes.empty())
+    input_error("pictures: the landmarks hold no plane to seed streamlines on");
+  return landmarks.planes.front();
+}
+
+/// A picture's entry in pictures.json: its file and the scale its scalar bar shows.
+json picture_json(const Picture& p) {
+  return {{"file", p.file.filename().string()},
+          {"scale_title", p.scale_title},
+          {"scale_range", {p.scale_min, p.scale_max}}};
+}
+
+/// The plane maps of one frame, a VTP pair per landmark, and a PNG per plane (TLk and FLk of
+/// a station in one picture).
+json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks,
+                const analysis::PictureFrame& f, const PicturesOptions& o, const fs::path& dir,
+                json& pictures) {
+  std::vector<analysis::PlaneMap> maps;
+  json out = json::object();
+  const auto locator = analysis::fluid_locator(fluid); // one for all the planes
+  for (const geometry::Landmark& l : landmarks.planes) {
+    maps.push_back(analysis::plane_map(fluid, l, 0.0, f.frame.file.string(), locator));
+    const analysis::PlaneMap& m = maps.back();
+    analysis::write_vtp(m.section, dir / ("plane_" + l.name + ".vtp"));
+    analysis::write_vtp(m.vectors, dir / ("arrows_" + l.name + ".vtp"));
+    out[l.name] = {{"section", "plane_" + l.name + ".vtp"},
+                   {"arrows", "arrows_" + l.name + ".vtp"},
+                   {"lumen", l.lumen},
+                   {"area_m2", m.area},
+                   {"flow_m3_per_s", m.flow},
+                   {"mean_through_plane_velocity_m_per_s", m.flow / m.area},
+                   {"arrow_spacing_m", m.vector_spacing}};
+  }
+  if (!o.png)
+    return out;
+  // One picture per plane: a paired station's TL and FL together.
+  std::map<std::string, std::vector<const analysis::PlaneMap*>> planes;
+  std::vector<std::string> order;
+  for (const analysis::PlaneMap& m : maps) {
+    const int k = analysis::station_of(m.landmark);
+    const std::string name = k > 0 ? fmt::format("station{}", k) : m.landmark.name;
+    if (!planes.count(name))
+      order.push_back(name);
+    planes[name].push_back(&m);
+  }
+  const ColourScale scale{"u.n [m/s]", -o.speed_max, o.speed_max};
+  // The in-plane (secondary) flow is a fraction of the through-plane one: its arrows are
+  // scaled on a quarter of the speed scale, stated on the picture.
+  const double arrow_speed = o.speed_max / 4;
+  for (const std::string& name : order) {
+    pictures.push_back(
+        picture_json(render_plane_map(planes[name], scale, arrow_speed,
+                                      fmt::format("{}, {} (t = {} s); arrows: 1.5 grid steps "
+                                                  "= {} m/s in plane",
+                                                  name, f.event, f.frame.time, arrow_speed),
+                                      dir / ("plane_" + name + ".png"))));
+  }
+  return out;
+}
+
+/// The streamlines of every frame of the cycle from one view (the flap's, else the first),
+/// each frame's PNG in animation/ and the animated PNG beside the frame folders.
+json animate(const analysis::CycleFrames& cycle, const geometry::Landmark& seed,
+             const std::vector<View>& views, const PicturesOptions& o, const fs::path& out) {
+  const View& view = views.back().name == "flap" ? views.back() : views.front();
+  const fs::path dir = out / "animation";
+  fs::create_directories(dir);
+  std::vector<fs::path> pngs;
+  analysis::StreamlineOptions so;
+  so.seed_spacing = o.seed_spacing;
+  for (std::size_t i = 0; i < cycle.frames.size(); ++i) {
+    const analysis::FlowFrame& f = cycle.frames[i];
+    const auto fluid = analysis::read_flow_frame(f.file);
+    const auto lines = analysis::trace_streamlines(fluid, seed, so, f.file.string());
+    const std::string stem = fmt::format("streamlines_{:03d}", i);
+    render_streamlines(lines, boundary_surface(fluid), {view}, {"speed [m/s]", 0.0, o.speed_max},
+                       fmt::format("streamlines from {}, t = {} s", seed.name, f.time), dir, stem);
+    pngs.push_back(dir / (stem + "_" + view.name + ".png"));
+  }
+  // The cycle in about 4 s however many frames were saved (20-500 ms each).
+  const int delay_ms = std::clamp(static_cast<int>(4000 / pngs.size()), 20, 500);
+  const fs::path file = out / ("streamlines_" + view.name + "_animation.png");
+  write_apng(pngs, delay_ms, file);
+  if (!o.quiet)
+    fmt::print("animation of {} frames: '{}'\n", pngs.size(), file.string());
+  return {{"file", file.filename().string()},
+          {"view", view.name},
+          {"frames", pngs.size()},
+          {"frame_delay_ms", delay_ms},
+          {"frame_times_s", [&] {
+             json t = json::array();
+             for (const analysis::FlowFrame& f : cycle.frames)
+               t.push_back(f.time);
+             return t;
+           }()}};
+}
+
+} // namespace
+
+int make_pictures(const PicturesOptions& o) {
+  const RunFiles run{o.run_dir};
+  if (!fs::is_directory(o.run_dir))
+    input_error("pictures: run folder '{}' does not exist", o.run_dir);
+  if (!fs::exists(run.flow_pvd()))
+    input_error("pictures: '{}' does not exist (is '{}' a run's output directory?)",
+                run.flow_pvd().string(), o.run_dir);
+  if (!(o.speed_max > 0))
+    input_error("pictures: --speed-max must be > 0 m/s (got {})", o.speed_max);
+  const fs::path landmarks_file = !o.landmarks.empty()   ? fs::path(o.landmarks)
+                                  : !o.model_dir.empty() ? GeometryFiles{o.model_dir}.landmarks()
+                                                         : run.geometry().landmarks();
+  if (!fs::exists(landmarks_file))
+    input_error("pictures: landmarks '{}' do not exist (give the model's folder with --model "
+                "or the file with --landmarks)",
+                landmarks_file.string());
+  const geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_file);
+  const geometry::Landmark& seed = seed_landmark(landmarks, o.seed);
+  const fs::path out =
+      o.output.empty() ? run.analysis_dir() / "figures" / "flow" : fs::path(o.output);
+
+  // The frames: the one asked for, else peak systole for everything and mid-diastole for the
+  // plane maps.
+  std::vector<analysis::PictureFrame> frames;
+  std::optional<analysis::CycleFrames> cycle;
+  if (o.time < 0 || o.animate)
+    cycle = analysis::cycle_frames(o.run_dir, landmarks);
+  if (o.time >= 0) {
+    frames.push_back(analysis::frame_at(o.run_dir, o.time));
+  } else {
+    frames.push_back(cycle->peak_systole);
+    if (cycle->mid_diastole)
+      frames.push_back(*cycle->mid_diastole);
+  }
+  const std::vector<View> views = standard_views(landmarks);
+  json record = {{"run", o.run_dir},
+                 {"landmarks", landmarks_file.string()},
+                 {"seed_landmark", seed.name},
+                 {"colour_scales",
+                  {{"speed_m_per_s", {0.0, o.speed_max}},
+                   {"through_plane_velocity_m_per_s", {-o.speed_max, o.speed_max}},
+                   {"displacement_mm", {0.0, o.displacement_max / units::mm}},
+                   {"in_plane_arrow_of_1.5_grid_steps_m_per_s", o.speed_max / 4}}},
+                 {"frames", json::array()}};
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const analysis::PictureFrame& f = frames[i];
+    const fs::path dir = out / folder_of(f);
+    fs::create_directories(dir);
+    const auto fluid = analysis::read_flow_frame(f.frame.file);
+    json pictures = json::array();
+    json entry = {{"event", f.event},
+                  {"time_s", f.frame.time},
+                  {"frame", f.frame.file.string()},
+                  {"folder", folder_of(f)}};
+    if (i == 0) { // streamlines and the wall at the first frame (peak systole, or the asked)
+      analysis::StreamlineOptions so;
+      so.seed_spacing = o.seed_spacing;
+      const auto lines = analysis::trace_streamlines(fluid, seed, so, f.frame.file.string());
+      analysis::write_vtp(lines, dir / "streamlines.vtp");
+      entry["streamlines"] = {{"file", "streamlines.vtp"},
+                              {"seed_landmark", seed.name},
+                              {"lines", lines->GetNumberOfLines()},
+                              {"points", lines->GetNumberOfPoints()}};
+      if (o.png) {
+        const std::string caption =
+            fmt::format("streamlines from {}, {} (t = {} s)", seed.name, f.event, f.frame.time);
+        for (const Picture& p :
+             render_streamlines(lines, boundary_surface(fluid), views,
+                                {"speed [m/s]", 0.0, o.speed_max}, caption, dir, "streamlines"))
+          pictures.push_back(picture_json(p));
+      }
+      if (const auto wall = analysis::read_wall(f.frame.file); wall && o.png) {
+        const std::string caption =
+            fmt::format("wall displacement, {} (t = {} s)", f.event, f.frame.time);
+        for (const Picture& p :
+             render_wall_displacement(boundary_surface(wall), views,
+                                      {"displacement [mm]", 0.0, o.displacement_max / units::mm},
+                                      caption, dir, "wall_displacement"))
+          pictures.push_back(picture_json(p));
+      }
+    }
+    entry["planes"] = plane_maps(fluid, landmarks, f, o, dir, pictures);
+    entry["pictures"] = pictures;
+    record["frames"].push_back(entry);
+    if (!o.quiet)
+      fmt::print("{} (t = {} s): {} pictures in '{}'\n", f.event, f.frame.time, pictures.size(),
+                 dir.string());
+  }
+  if (o.animate && o.png)
+    record["animation"] = animate(*cycle, seed, views, o, out);
+  io::write_file_atomically(out / "pictures.json", record.dump(2) + "\n");
+  if (!o.quiet)
+    fmt::print("wrote '{}'\n", (out / "pictures.json").string());
+  return 0;
+}
+
+PicturesCommand::PicturesCommand(CLI::App& app) {
+  command_ = app.add_subcommand("pictures", "flow-pattern figures of a run: streamlines, plane "
+                                            "maps, wall displacement (docs/analysis.md)");
+  command_->add_option("run_dir", options_.run_dir, "output directory of `tearflow run`")
+      ->required();
+  command_->add_option("--model", options_.model_dir,
+                       "the model's geometry folder (its landmarks.json; default "
+                       "RUN_DIR/geometry)");
+  command_->add_option("--landmarks", options_.landmarks, "landmarks JSON (overrides --model)");
+  command_
+      ->add_option("--time", options_.time,
+                   "picture the saved frame nearest this time [s] (default: peak systole, and "
+                   "mid-diastole for the plane maps)")
+      ->check(CLI::NonNegativeNumber);
+  command_->add_option("--seed", options_.seed,
+                       "landmark whose plane seeds the streamlines (default inlet, else AAo)");
+  command_->add_option("--speed-max", options_.speed_max,
+                       "top of the speed colour scale [m/s]; the through-plane scale is +-it "
+                       "(default 1.5)");
+  command_
+      ->add_option("--displacement-max-mm", displacement_max_mm_,
+                   "top of the wall displacement colour scale [mm] (default 2)")
+      ->check(CLI::PositiveNumber);
+  command_
+      ->add_option("--seed-spacing-mm", seed_spacing_mm_,
+                   "spacing of the seed grid [mm] (default: the seed section's equivalent "
+                   "diameter / 10)")
+      ->check(CLI::PositiveNumber);
+  command_->add_option("-o,--output", options_.output,
+                       "output directory (default RUN_DIR/analysis/figures/flow)");
+  command_->add_flag("--no-png", no_png_, "the VTP files and pictures.json only, no rendering");
+  command_->add_flag("--animate", options_.animate,
+                     "also the streamlines of every frame of the cycle as an animated PNG");
+  command_->add_flag("-q,--quiet", options_.quiet, "no summary lines");
+}
+
+int PicturesCommand::run() const {
+  PicturesOptions o = options_;
+  o.displacement_max = displacement_max_mm_ * units::mm;
+  o.seed_spacing = seed_spacing_mm_ * units::mm;
+  o.png = !no_png_;
+  return make_pictures(o);
+}
+
+} // namespace tearflow::report
