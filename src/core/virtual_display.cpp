@@ -32,7 +32,10 @@ constexpr int kStartTimeoutMs = 30000;
 struct OwnServer {
   pid_t pid = -1;
   std::string display;
+  Display* held = nullptr; ///< a connection kept open for the server's life (no reset)
   void stop() {
+    if (held != nullptr)
+      XCloseDisplay(held), held = nullptr;
     if (pid <= 0)
       return;
     kill(pid, SIGTERM);
@@ -43,18 +46,16 @@ struct OwnServer {
   ~OwnServer() { stop(); }
 };
 
-/// Whether a client can connect to `display`. Xvfb names its display once it listens, yet
-/// in about one start of thirty under the tests a first client was refused ("bad X server
-/// connection", VTK then aborts): connect once ourselves, retrying for a second.
-bool accepts_clients(const std::string& display) {
+/// A connection to `display`, retrying for a second; null when refused. Xvfb names its
+/// display once it listens; the connection is then held open, so that the server never
+/// finds itself without clients between two pictures (with -noreset, a second guard).
+Display* connect_to(const std::string& display) {
   for (int attempt = 0; attempt < 20; ++attempt) {
-    if (Display* d = XOpenDisplay(display.c_str())) {
-      XCloseDisplay(d);
-      return true;
-    }
+    if (Display* d = XOpenDisplay(display.c_str()))
+      return d;
     usleep(50000);
   }
-  return false;
+  return nullptr;
 }
 
 std::filesystem::path find_in_path(const std::string& program) {
@@ -85,8 +86,11 @@ void start_xvfb(OwnServer& server, const std::string& purpose) {
   if (pipe2(fds, O_CLOEXEC) != 0)
     input_error("{}: cannot start Xvfb: pipe: {}", purpose, std::strerror(errno));
   // The child's end of the pipe becomes its descriptor 3, passed to -displayfd.
-  std::string args[] = {"Xvfb", "-displayfd",   "3",         "-screen",
-                        "0",    "1600x1200x24", "-nolisten", "tcp"};
+  // -noreset: an X server resets when its last client leaves, and refuses connections while
+  // it does; every picture's window is a client of its own, so the next one could arrive
+  // mid-reset and VTK aborts ("bad X server connection"): seen in a study's pictures stage.
+  std::string args[] = {"Xvfb",         "-displayfd", "3",   "-screen", "0",
+                        "1600x1200x24", "-nolisten",  "tcp", "-noreset"};
   char* argv[std::size(args) + 1];
   for (std::size_t i = 0; i < std::size(args); ++i)
     argv[i] = args[i].data();
@@ -165,7 +169,8 @@ std::string ensure_display(const std::string& purpose) {
   // A server that names its display but refuses clients is replaced (twice at most).
   for (int start = 0; start < 3; ++start) {
     start_xvfb(server, purpose);
-    if (accepts_clients(server.display)) {
+    server.held = connect_to(server.display);
+    if (server.held != nullptr) {
       setenv("DISPLAY", server.display.c_str(), 1);
       return server.display;
     }
