@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -273,8 +274,16 @@ TEST(Study, CompliantStudyTunesInItsRunAndResumes) {
   EXPECT_LE(v["cycles_run"].get<int>(), 2);
   EXPECT_EQ(v["cycles_run"].get<size_t>() + 1, steps.size());
   EXPECT_TRUE(v.contains("periodicity_last_change"));
-  for (const char* stage : {"OR/geometry", "OR/run", "OR/analyze", "report"})
+  for (const char* stage : {"OR/geometry", "OR/run", "OR/analyze", "OR/pictures", "report"})
     EXPECT_TRUE(summary["stages"][stage].contains("seconds")) << stage;
+  // The pictures stage's flow pictures, with the wall's displacement, are in the report.
+  const fs::path flow = out / "OR" / "run" / "analysis" / "figures" / "flow";
+  for (const char* file : {"pictures.json", "peak-systole/streamlines.vtp",
+                           "peak-systole/wall_displacement_anterior.png"})
+    EXPECT_TRUE(fs::exists(flow / file)) << file;
+  // One variant: its run's own page is the report.
+  EXPECT_THAT(read_text(out / "OR" / "run" / "analysis" / "report.html"),
+              ::testing::HasSubstr("Flow patterns"));
   // The compliant aorta dilates over the cycle (the rigid one cannot).
   EXPECT_GT(v["AAo_min_to_max_dilation_percent"].get<double>(), 0.0);
   // Every frame of the analysed cycle follows its step's start (a frame per step, with

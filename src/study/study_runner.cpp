@@ -99,9 +99,11 @@ std::vector<StudyRunner::Stage> StudyRunner::stages() const {
       out.push_back({&v, "tune"});
     out.push_back({&v, "run"});
     out.push_back({&v, "analyze"});
+    out.push_back({&v, "pictures"});
     if (spec_.compare_rigid) {
       out.push_back({&v, "rigid_run"});
       out.push_back({&v, "rigid_analyze"});
+      out.push_back({&v, "rigid_pictures"});
     }
   }
   if (spec_.rom_sweep) {
@@ -255,6 +257,17 @@ std::vector<std::string> StudyRunner::command(const Stage& s) const {
       parallel.push_back("--restart");
     return parallel;
   }
+  if (s.name == "pictures" || s.name == "rigid_pictures")
+    // The report's "Flow patterns" (docs/analysis.md): peak systole, mid-diastole, the cycle's
+    // streamlines animated; the study's views and scales are the command's defaults, so the
+    // variants' pictures compare.
+    return {self,
+            "pictures",
+            (dir(v) / (s.name == "pictures" ? "run" : "rigid")).string(),
+            "--model",
+            geometry_dir(v).string(),
+            "--animate",
+            "--quiet"};
   const std::string run = s.name == "rigid_analyze" ? "rigid" : "run";
   // The case that ran, for the conservative flux (docs/analysis.md).
   const std::filesystem::path ran = s.name == "rigid_analyze" ? dir(v) / "rigid.yaml" : ran_case(v);
