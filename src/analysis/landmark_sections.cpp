@@ -343,10 +343,18 @@ vtkSmartPointer<vtkUnstructuredGrid> read_flow_frame(const std::filesystem::path
   return deformed_fluid(grid, vtu);
 }
 
-vtkSmartPointer<vtkPolyData> lumen_section(vtkUnstructuredGrid* grid, const geometry::Landmark& l,
-                                           const std::string& frame) {
-  const Vec3 n = unit(l.normal);
-  const PlaneSection section = cut(grid, l.origin, n);
+namespace {
+
+/// The region of a landmark's plane section its lumen point lies in (the point projected on
+/// the plane: rounding may lift it off), and how far that point is from the region.
+struct LandmarkRegion {
+  vtkIdType region = -1;
+  double distance = 0.0; ///< [m]
+  Vec3 point{};
+};
+
+LandmarkRegion landmark_region(const PlaneSection& section, const geometry::Landmark& l,
+                               const Vec3& n, const std::string& frame) {
   if (!section.regions)
     input_error("{}: the plane of landmark '{}' (origin ({:.2f}, {:.2f}, {:.2f}) mm) misses "
                 "the fluid mesh",
@@ -355,7 +363,27 @@ vtkSmartPointer<vtkPolyData> lumen_section(vtkUnstructuredGrid* grid, const geom
   const Vec3 p = l.point.value_or(l.origin);
   const Vec3 q = p - dot(p - l.origin, n) * n;
   const auto [region, distance] = section.region_at(q);
-  const vtkSmartPointer<vtkUnstructuredGrid> cells = region_cells(section.regions, region);
+  return {region, distance, q};
+}
+
+/// InputError unless the lumen point lies within kPointSlack radii of its region (`area`).
+void require_inside(const LandmarkRegion& at, double area, const geometry::Landmark& l,
+                    const std::string& frame) {
+  if (at.distance > kPointSlack * std::sqrt(area / M_PI))
+    input_error("{}: landmark '{}': its lumen point ({:.2f}, {:.2f}, {:.2f}) mm is not inside "
+                "the fluid section of its plane (nearest fluid {:.2f} mm away)",
+                frame, l.name, at.point[0] / units::mm, at.point[1] / units::mm,
+                at.point[2] / units::mm, at.distance / units::mm);
+}
+
+} // namespace
+
+vtkSmartPointer<vtkPolyData> lumen_section(vtkUnstructuredGrid* grid, const geometry::Landmark& l,
+                                           const std::string& frame) {
+  const Vec3 n = unit(l.normal);
+  const PlaneSection section = cut(grid, l.origin, n);
+  const LandmarkRegion at = landmark_region(section, l, n, frame);
+  const vtkSmartPointer<vtkUnstructuredGrid> cells = region_cells(section.regions, at.region);
   auto surface = vtkSmartPointer<vtkGeometryFilter>::New();
   surface->SetInputData(cells);
   surface->Update();
@@ -363,12 +391,7 @@ vtkSmartPointer<vtkPolyData> lumen_section(vtkUnstructuredGrid* grid, const geom
   auto sums = vtkSmartPointer<vtkIntegrateAttributes>::New();
   sums->SetInputData(cells);
   sums->Update();
-  const double area = sums->GetOutput()->GetCellData()->GetArray("Area")->GetTuple1(0);
-  if (distance > kPointSlack * std::sqrt(area / M_PI))
-    input_error("{}: landmark '{}': its lumen point ({:.2f}, {:.2f}, {:.2f}) mm is not inside "
-                "the fluid section of its plane (nearest fluid {:.2f} mm away)",
-                frame, l.name, q[0] / units::mm, q[1] / units::mm, q[2] / units::mm,
-                distance / units::mm);
+  require_inside(at, sums->GetOutput()->GetCellData()->GetArray("Area")->GetTuple1(0), l, frame);
   return out;
 }
 
@@ -400,20 +423,10 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
             grid, *state, l.origin, n, [&](const Vec3& p) { return section.region_at(p).first; },
             section.region_count, *form);
     }
-    if (!section.regions)
-      input_error("{}: the plane of landmark '{}' (origin ({:.2f}, {:.2f}, {:.2f}) mm) misses "
-                  "the fluid mesh",
-                  frame, l.name, l.origin[0] / units::mm, l.origin[1] / units::mm,
-                  l.origin[2] / units::mm);
-    const Vec3 p = l.point.value_or(l.origin);
-    const Vec3 q = p - dot(p - l.origin, n) * n; // rounding may lift it off the plane
-    const auto [region, distance] = section.region_at(q);
+    const LandmarkRegion at = landmark_region(section, l, n, frame);
+    const vtkIdType region = at.region;
     SectionValues v = integrate(section.regions, region);
-    if (distance > kPointSlack * std::sqrt(v.area / M_PI))
-      input_error("{}: landmark '{}': its lumen point ({:.2f}, {:.2f}, {:.2f}) mm is not inside "
-                  "the fluid section of its plane (nearest fluid {:.2f} mm away)",
-                  frame, l.name, q[0] / units::mm, q[1] / units::mm, q[2] / units::mm,
-                  distance / units::mm);
+    require_inside(at, v.area, l, frame);
     v.flow_interpolated = v.flow;
     if (section.flux) {
       v.flow = section.flux->regions[static_cast<std::size_t>(region)];
@@ -422,7 +435,7 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
     }
     if (const int k = station_of(l); k > 0) {
       stations[k][l.lumen] = {section_id, region};
-      points[k][l.lumen] = {q, values.size()};
+      points[k][l.lumen] = {at.point, values.size()};
       const auto tl = stations[k].find("TL"), fl = stations[k].find("FL");
       if (tl != stations[k].end() && fl != stations[k].end() && tl->second.first == section_id &&
           fl->second.first == section_id && tl->second.second != fl->second.second) {

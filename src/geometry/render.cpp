@@ -10,7 +10,6 @@
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
@@ -18,9 +17,9 @@
 #include <vtkRegularPolygonSource.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
-#include <vtkWindowToImageFilter.h>
 
 #include "core/error.hpp"
+#include "core/offscreen_picture.hpp"
 #include "core/virtual_display.hpp"
 #include "geometry/geometry_report.hpp"
 
@@ -126,34 +125,14 @@ void render_geometry(const mesh::Mesh& m, const Landmarks& landmarks,
     renderer->AddActor(disk_actor(l.origin, l.normal, 20e-3, rgb));
   }
   // Look along the flap's normal (the first tear's), at the whole model.
-  const Vec3 view = landmarks.tears.empty() ? Vec3{1, 0, 0} : landmarks.tears[0].normal;
-  renderer->ResetCamera();
-  vtkCamera* camera = renderer->GetActiveCamera();
-  double focal[3];
-  camera->GetFocalPoint(focal);
-  const double distance = camera->GetDistance();
-  camera->SetPosition(focal[0] + distance * view[0], focal[1] + distance * view[1],
-                      focal[2] + distance * view[2]);
-  camera->SetViewUp(0, 0, 1);
-  renderer->ResetCamera();
-  camera->Zoom(1.1);
+  look_from(renderer, landmarks.tears.empty() ? Vec3{1, 0, 0} : landmarks.tears[0].normal,
+            {0, 0, 1});
+  renderer->GetActiveCamera()->Zoom(1.1);
 
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
   window->AddRenderer(renderer);
   window->SetSize(900, 1400);
-  window->Render();
-  vtkNew<vtkWindowToImageFilter> image;
-  image->SetInput(window);
-  image->ReadFrontBufferOff();
-  image->Update();
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(png.c_str());
-  writer->SetInputConnection(image->GetOutputPort());
-  writer->Write();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(png, ec) || std::filesystem::file_size(png, ec) == 0)
-    input_error("cannot render '{}': VTK wrote no picture", png.string());
+  render_to_png(window, png, fmt::format("cannot render '{}' (or pass --no-png)", png.string()));
 }
 
 } // namespace tearflow::geometry

@@ -12,7 +12,6 @@
 #include <vtkGlyph3D.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -25,9 +24,9 @@
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkWindowToImageFilter.h>
 
 #include "core/error.hpp"
+#include "core/offscreen_picture.hpp"
 #include "core/virtual_display.hpp"
 
 // The rendering classes come from object factories these modules register (the text of the
@@ -127,16 +126,7 @@ vtkNew<vtkActor> plain_actor(vtkPolyData* data, const std::array<double, 3>& rgb
 
 /// Points the camera along `view` at everything the renderer holds.
 void look(vtkRenderer* renderer, const View& view) {
-  renderer->ResetCamera();
-  vtkCamera* camera = renderer->GetActiveCamera();
-  double focal[3];
-  camera->GetFocalPoint(focal);
-  const double d = camera->GetDistance();
-  camera->SetPosition(focal[0] + d * view.from[0], focal[1] + d * view.from[1],
-                      focal[2] + d * view.from[2]);
-  camera->SetViewUp(view.up[0], view.up[1], view.up[2]);
-  renderer->ResetCamera();
-  renderer->ResetCameraClippingRange();
+  look_from(renderer, view.from, view.up);
 }
 
 /// Renders `renderer` into `png`; InputError when no picture results.
@@ -148,23 +138,10 @@ Picture write_png(vtkRenderer* renderer, vtkScalarBarActor* bar, const PictureSi
   legend->SetBackground(1, 1, 1);
   legend->AddActor2D(bar);
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetMultiSamples(0); // multisampled buffers cannot be read back off-screen
   window->AddRenderer(renderer);
   window->AddRenderer(legend);
   window->SetSize(size.width, size.height);
-  window->Render();
-  vtkNew<vtkWindowToImageFilter> image;
-  image->SetInput(window);
-  image->ReadFrontBufferOff();
-  image->Update();
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(png.c_str());
-  writer->SetInputConnection(image->GetOutputPort());
-  writer->Write();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(png, ec) || std::filesystem::file_size(png, ec) == 0)
-    input_error("cannot render '{}': VTK wrote no picture", png.string());
+  render_to_png(window, png, fmt::format("render '{}'", png.string()));
   const double* range = bar->GetLookupTable()->GetRange();
   return {png, bar->GetTitle(), range[0], range[1]};
 }
@@ -174,6 +151,26 @@ vtkNew<vtkRenderer> white_renderer() {
   renderer->SetBackground(1, 1, 1);
   renderer->SetViewport(0.0, 0.0, kModelWidth, 1.0);
   return renderer;
+}
+
+/// One picture per view of what `add(renderer)` puts in a fresh renderer, with the scale's
+/// bar and a caption naming the view: DIRECTORY/STEM_<view>.png.
+template <typename AddActors>
+std::vector<Picture> render_views(const std::vector<View>& views, vtkLookupTable* table,
+                                  const ColourScale& scale, const std::string& caption,
+                                  const std::filesystem::path& directory, const std::string& stem,
+                                  const PictureSize& size, AddActors&& add) {
+  std::vector<Picture> written;
+  for (const View& view : views) {
+    auto renderer = white_renderer();
+    add(renderer.Get());
+    auto bar = scalar_bar(table, scale);
+    renderer->AddActor2D(caption_actor(caption + ", " + view.name));
+    look(renderer, view);
+    written.push_back(
+        write_png(renderer, bar, size, directory / (stem + "_" + view.name + ".png")));
+  }
+  return written;
 }
 
 } // namespace
@@ -205,21 +202,14 @@ std::vector<Picture> render_streamlines(vtkPolyData* streamlines, vtkPolyData* l
                                         const std::filesystem::path& directory,
                                         const std::string& stem, const PictureSize& size) {
   const auto table = speed_table(speed);
-  std::vector<Picture> written;
-  for (const View& view : views) {
-    auto renderer = white_renderer();
-    auto lines = coloured_actor(streamlines, analysis::kSpeedArray, table, speed);
-    lines->GetProperty()->SetLineWidth(2.0);
-    renderer->AddActor(lines);
-    auto wall = plain_actor(lumen, {0.75, 0.6, 0.55}, 0.12);
-    renderer->AddActor(wall);
-    auto bar = scalar_bar(table, speed);
-    renderer->AddActor2D(caption_actor(caption + ", " + view.name));
-    look(renderer, view);
-    written.push_back(
-        write_png(renderer, bar, size, directory / (stem + "_" + view.name + ".png")));
-  }
-  return written;
+  return render_views(
+      views, table, speed, caption, directory, stem, size, [&](vtkRenderer* renderer) {
+        auto lines = coloured_actor(streamlines, analysis::kSpeedArray, table, speed);
+        lines->GetProperty()->SetLineWidth(2.0);
+        renderer->AddActor(lines);
+        auto wall = plain_actor(lumen, {0.75, 0.6, 0.55}, 0.12);
+        renderer->AddActor(wall);
+      });
 }
 
 Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
@@ -304,19 +294,12 @@ std::vector<Picture> render_wall_displacement(vtkPolyData* wall, const std::vect
   moved->SetPoints(points);
   moved->GetPointData()->AddArray(magnitude);
   const auto table = speed_table(displacement);
-  std::vector<Picture> written;
-  for (const View& view : views) {
-    auto renderer = white_renderer();
-    auto surface = coloured_actor(moved, kDisplacementMm, table, displacement);
-    surface->GetProperty()->SetOpacity(0.5);
-    renderer->AddActor(surface);
-    auto bar = scalar_bar(table, displacement);
-    renderer->AddActor2D(caption_actor(caption + ", " + view.name));
-    look(renderer, view);
-    written.push_back(
-        write_png(renderer, bar, size, directory / (stem + "_" + view.name + ".png")));
-  }
-  return written;
+  return render_views(views, table, displacement, caption, directory, stem, size,
+                      [&](vtkRenderer* renderer) {
+                        auto surface = coloured_actor(moved, kDisplacementMm, table, displacement);
+                        surface->GetProperty()->SetOpacity(0.5);
+                        renderer->AddActor(surface);
+                      });
 }
 
 } // namespace tearflow::report
