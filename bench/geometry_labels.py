@@ -9,19 +9,9 @@ image's size, the stages' times as the command prints them (fields, caps and lan
 meshing), the whole command's wall time and peak memory (GNU time), the mesh's tet counts and
 the tears as found. One process at a time: run it on a quiet machine.
 """
-import argparse, json, os, re, subprocess, tempfile, time
+import argparse, json, os, re, subprocess, tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BIN = os.path.join(ROOT, "build", "tearflow")
-
-
-def timed(cmd):
-    t0 = time.perf_counter()
-    p = subprocess.run(["/usr/bin/time", "-f", "peak_kb=%M"] + cmd, check=True,
-                       capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    peak = int(re.search(r"peak_kb=(\d+)", p.stderr).group(1))
-    return p.stdout, wall, peak / 1024.0
+from timing import BIN, ROOT, timed
 
 
 def main():

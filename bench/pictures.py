@@ -10,19 +10,9 @@ saved frame's streamlines too), with their peak memory (GNU time), the mesh's si
 pictures' counts from pictures.json. Renders through its own virtual X server when DISPLAY is
 unset. One process at a time: run it on a quiet machine.
 """
-import argparse, json, os, re, subprocess, tempfile, time
+import argparse, json, os, re, subprocess, tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BIN = os.path.join(ROOT, "build", "tearflow")
-
-
-def timed(cmd):
-    t0 = time.perf_counter()
-    p = subprocess.run(["/usr/bin/time", "-f", "peak_kb=%M"] + cmd, check=True,
-                       capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    peak = int(re.search(r"peak_kb=(\d+)", p.stderr).group(1))
-    return p.stdout, wall, peak / 1024.0
+from timing import BIN, ROOT, timed
 
 
 def main():
