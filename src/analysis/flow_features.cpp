@@ -21,7 +21,6 @@
 #include <vtkStaticCellLocator.h>
 #include <vtkStreamTracer.h>
 #include <vtkStringArray.h>
-#include <vtkThreshold.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridReader.h>
@@ -338,15 +337,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_wall(const std::filesystem::path& vtu)
   const vtkIdType wall = names->LookupValue("wall");
   if (wall < 0)
     return nullptr;
-  auto threshold = vtkSmartPointer<vtkThreshold>::New();
-  threshold->SetInputData(grid);
-  threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
-                                    io::kRegionArray);
-  threshold->SetLowerThreshold(static_cast<double>(wall) - 0.5);
-  threshold->SetUpperThreshold(static_cast<double>(wall) + 0.5);
-  threshold->SetThresholdFunction(vtkThreshold::THRESHOLD_BETWEEN);
-  threshold->Update();
-  return threshold->GetOutput();
+  return cells_with(grid, io::kRegionArray, wall);
 }
 
 void write_vtp(vtkPolyData* data, const std::filesystem::path& file) {

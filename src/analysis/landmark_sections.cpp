@@ -36,6 +36,18 @@
 
 namespace tearflow::analysis {
 
+vtkSmartPointer<vtkUnstructuredGrid> cells_with(vtkPointSet* data, const char* array,
+                                                vtkIdType value) {
+  auto threshold = vtkSmartPointer<vtkThreshold>::New();
+  threshold->SetInputData(data);
+  threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, array);
+  threshold->SetLowerThreshold(static_cast<double>(value) - 0.5);
+  threshold->SetUpperThreshold(static_cast<double>(value) + 0.5);
+  threshold->SetThresholdFunction(vtkThreshold::THRESHOLD_BETWEEN);
+  threshold->Update();
+  return threshold->GetOutput();
+}
+
 namespace {
 
 constexpr const char* kThroughPlane = "through_plane_velocity";
@@ -130,14 +142,7 @@ PlaneSection cut(vtkUnstructuredGrid* grid, const Vec3& origin, const Vec3& norm
 
 /// The cells of region `region` of a section.
 vtkSmartPointer<vtkUnstructuredGrid> region_cells(vtkPointSet* regions, vtkIdType region) {
-  auto threshold = vtkSmartPointer<vtkThreshold>::New();
-  threshold->SetInputData(regions);
-  threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kRegion);
-  threshold->SetLowerThreshold(static_cast<double>(region) - 0.5);
-  threshold->SetUpperThreshold(static_cast<double>(region) + 0.5);
-  threshold->SetThresholdFunction(vtkThreshold::THRESHOLD_BETWEEN);
-  threshold->Update();
-  return threshold->GetOutput();
+  return cells_with(regions, kRegion, region);
 }
 
 /// Integrals over region `region` of a section.
@@ -270,15 +275,7 @@ vtkSmartPointer<vtkUnstructuredGrid> deformed_fluid(vtkSmartPointer<vtkUnstructu
         on_wall->SetValue(ids[a], 1);
     }
     grid->GetPointData()->AddArray(on_wall);
-    auto threshold = vtkSmartPointer<vtkThreshold>::New();
-    threshold->SetInputData(grid);
-    threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
-                                      io::kRegionArray);
-    threshold->SetLowerThreshold(static_cast<double>(fluid) - 0.5);
-    threshold->SetUpperThreshold(static_cast<double>(fluid) + 0.5);
-    threshold->SetThresholdFunction(vtkThreshold::THRESHOLD_BETWEEN);
-    threshold->Update();
-    grid = threshold->GetOutput();
+    grid = cells_with(grid, io::kRegionArray, fluid);
   }
   vtkDataArray* d = grid->GetPointData()->GetArray(kDisplacement);
   if (d == nullptr)

@@ -23,6 +23,7 @@
 #include "analysis/conservative_flux.hpp"
 #include "geometry/landmarks.hpp"
 
+class vtkPointSet;
 class vtkPolyData;
 class vtkUnstructuredGrid;
 
@@ -83,6 +84,11 @@ std::vector<SectionValues> measure_landmarks(vtkUnstructuredGrid* grid,
 vtkSmartPointer<vtkPolyData> lumen_section(vtkUnstructuredGrid* grid,
                                            const geometry::Landmark& landmark,
                                            const std::string& frame);
+
+/// The cells of `data` whose integer cell array `array` holds `value` (a frame's volume
+/// region, a section's connected piece).
+vtkSmartPointer<vtkUnstructuredGrid> cells_with(vtkPointSet* data, const char* array,
+                                                vtkIdType value);
 
 /// The station number k of a paired landmark "TLk" / "FLk" (0 for other names).
 int station_of(const geometry::Landmark& landmark);

@@ -220,7 +220,9 @@ int make_pictures(const PicturesOptions& o) {
                                 {"speed [m/s]", 0.0, o.speed_max}, caption, dir, "streamlines"))
           pictures.push_back(picture_json(p));
       }
-      if (const auto wall = analysis::read_wall(f.frame.file); wall && o.png) {
+      // (read only for a picture: the wall has no VTP of its own)
+      if (const auto wall =
+              o.png ? analysis::read_wall(f.frame.file) : vtkSmartPointer<vtkUnstructuredGrid>()) {
         const std::string caption =
             fmt::format("wall displacement, {} (t = {} s)", f.event, f.frame.time);
         for (const Picture& p :
