@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
+#include "report/report.hpp"
 
 namespace tearflow::report {
 
@@ -30,13 +31,6 @@ std::string base64(const std::string& bytes) {
 std::string read_bytes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s)
-    out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
-  return out;
 }
 
 /// One run's pictures of its first frame.
@@ -95,10 +89,10 @@ std::string flow_patterns_section(const std::vector<std::filesystem::path>& run_
                      "flow as arrows, on the colour scales each picture states.</p>\n"
                      "<table class='flow-patterns'><tr>";
   for (std::size_t i = 0; i < runs.size(); ++i)
-    html +=
-        fmt::format("<th>{}{}</th>", escape(names[i]),
-                    runs[i] ? fmt::format(": {} (t = {} s)", escape(runs[i]->event), runs[i]->time)
-                            : std::string(": no pictures"));
+    html += fmt::format(
+        "<th>{}{}</th>", escape_html(names[i]),
+        runs[i] ? fmt::format(": {} (t = {} s)", escape_html(runs[i]->event), runs[i]->time)
+                : std::string(": no pictures"));
   html += "</tr>\n";
   const std::string width = fmt::format("{}%", 100 / runs.size());
   for (const std::string& file : order) {
@@ -109,7 +103,7 @@ std::string flow_patterns_section(const std::vector<std::filesystem::path>& run_
         const std::string bytes = read_bytes(run->folder / file);
         if (!bytes.empty())
           html += "<img class='flow-picture' style='width:100%;max-width:560px' alt='" +
-                  escape(file) + "' src='data:image/png;base64," + base64(bytes) + "'>";
+                  escape_html(file) + "' src='data:image/png;base64," + base64(bytes) + "'>";
       }
       html += "</td>";
     }

@@ -39,13 +39,6 @@ std::string inline_script(std::string text) {
   return text;
 }
 
-std::string escape_html(const std::string& s) {
-  std::string out;
-  for (char c : s)
-    out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
-  return out;
-}
-
 /// A landmark's CSV as {column: [values]}.
 json read_series(const std::filesystem::path& csv) {
   const analysis::LandmarkTable t = analysis::read_landmark_table(csv);
@@ -161,6 +154,13 @@ td:first-child{text-align:left}.figure .canvas{position:relative;height:360px}
 #script-errors{color:#b00})";
 
 } // namespace
+
+std::string escape_html(const std::string& s) {
+  std::string out;
+  for (char c : s)
+    out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
+  return out;
+}
 
 json report_run_data(const std::filesystem::path& run_dir,
                      const std::filesystem::path& analysis_dir) {

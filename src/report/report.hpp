@@ -12,6 +12,9 @@
 
 namespace tearflow::report {
 
+/// `s` with <, > and & as HTML entities, for text and attribute values in a page.
+std::string escape_html(const std::string& s);
+
 /// One analysed run as the page sees it: {name, metrics, series: {landmark: {column: [...]}}}.
 /// InputError naming the file when metrics.json or a landmark's CSV is missing or malformed.
 nlohmann::json report_run_data(const std::filesystem::path& run_dir,

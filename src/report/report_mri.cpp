@@ -1,6 +1,8 @@
 // The MRI comparison section of a report page (report_mri.hpp).
 #include "report/report_mri.hpp"
 
+#include "report/report.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -64,13 +66,6 @@ std::string cell(const json& j, const char* key, const char* format = "{:.2f}") 
   return "<td>" + fmt::format(fmt::runtime(format), j[key].get<double>()) + "</td>";
 }
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s)
-    out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
-  return out;
-}
-
 } // namespace
 
 json report_mri_data(const std::filesystem::path& compare_dir) {
@@ -128,7 +123,7 @@ std::string mri_comparison_table(const json& mri) {
     if (!c["landmarks"].contains(n))
       continue;
     const json& l = c["landmarks"][n];
-    html += "<tr><td>" + escape(n) + "</td>" + cell(l, "mean_flow_simulation_mL_per_s") +
+    html += "<tr><td>" + escape_html(n) + "</td>" + cell(l, "mean_flow_simulation_mL_per_s") +
             cell(l, "mean_flow_mri_mL_per_s") + cell(l, "net_volume_simulation_mL") +
             cell(l, "net_volume_mri_mL") + cell(l, "peak_flow_simulation_mL_per_s") +
             cell(l, "peak_flow_mri_mL_per_s") +
@@ -150,7 +145,7 @@ std::string mri_comparison_table(const json& mri) {
     for (const auto& [k, r] : c["fl_flow_ratio_percent"].items()) {
       const double s = r.value("simulation", std::nan("")), m = r.value("mri", std::nan(""));
       html += fmt::format("<tr><td>{}</td><td>{:.1f}</td><td>{:.1f}</td><td>{:.1f}</td></tr>\n",
-                          escape(k), s, m, m - s);
+                          escape_html(k), s, m, m - s);
     }
     html += "</table>\n";
   }
