@@ -1,6 +1,7 @@
 #include "core/offscreen_picture.hpp"
 
 #include <vtkCamera.h>
+#include <vtkErrorCode.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
 #include <vtkRenderWindow.h>
@@ -40,6 +41,9 @@ void render_to_png(vtkRenderWindow* window, const std::filesystem::path& png,
   writer->SetFileName(png.c_str());
   writer->SetInputConnection(image->GetOutputPort());
   writer->Write();
+  // A full disk or a read-only folder: VTK says so in the writer's error code only.
+  if (const unsigned long code = writer->GetErrorCode(); code != vtkErrorCode::NoError)
+    input_error("cannot write '{}': {}", png.string(), vtkErrorCode::GetStringFromErrorCode(code));
   std::error_code ec;
   if (!std::filesystem::is_regular_file(png, ec) || std::filesystem::file_size(png, ec) == 0)
     input_error("cannot render '{}': VTK wrote no picture", png.string());
