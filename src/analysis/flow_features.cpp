@@ -179,22 +179,35 @@ FlowSeries reference_flow(const std::filesystem::path& run_dir,
 CycleFrames cycle_frames(const std::filesystem::path& run_dir,
                          const geometry::Landmarks& landmarks) {
   const FlowSeries s = reference_flow(run_dir, landmarks);
-  const std::size_t peak =
-      static_cast<std::size_t>(std::max_element(s.flow.begin(), s.flow.end()) - s.flow.begin());
-  CycleFrames c{{s.frames[peak], "peak systole"}, std::nullopt, s.frames};
-  std::size_t end_systole = peak;
-  while (end_systole < s.flow.size() && s.flow[end_systole] >= 0.1 * s.flow[peak])
-    ++end_systole;
-  if (end_systole == s.flow.size())
-    return c;
-  const double middle = 0.5 * (s.frames[end_systole].time + s.frames.back().time);
-  const auto nearest =
-      std::min_element(s.frames.begin() + static_cast<long>(end_systole), s.frames.end(),
-                       [&](const FlowFrame& a, const FlowFrame& b) {
-                         return std::abs(a.time - middle) < std::abs(b.time - middle);
-                       });
-  c.mid_diastole = PictureFrame{*nearest, "mid-diastole"};
+  std::vector<double> time;
+  for (const FlowFrame& f : s.frames)
+    time.push_back(f.time);
+  const CycleEvents e = cycle_events(time, s.flow);
+  CycleFrames c{{s.frames[e.peak_systole], "peak systole"}, std::nullopt, s.frames};
+  if (e.mid_diastole)
+    c.mid_diastole = PictureFrame{s.frames[*e.mid_diastole], "mid-diastole"};
   return c;
+}
+
+CycleEvents cycle_events(const std::vector<double>& time, const std::vector<double>& flow) {
+  if (time.empty() || time.size() != flow.size())
+    input_error("cycle events: {} times and {} flows (one each per frame, at least one)",
+                time.size(), flow.size());
+  const std::size_t peak =
+      static_cast<std::size_t>(std::max_element(flow.begin(), flow.end()) - flow.begin());
+  CycleEvents e{peak, std::nullopt};
+  std::size_t end_systole = peak;
+  while (end_systole < flow.size() && flow[end_systole] >= 0.1 * flow[peak])
+    ++end_systole;
+  if (end_systole == flow.size())
+    return e;
+  const double middle = 0.5 * (time[end_systole] + time.back());
+  std::size_t nearest = end_systole;
+  for (std::size_t i = end_systole; i < time.size(); ++i)
+    if (std::abs(time[i] - middle) < std::abs(time[nearest] - middle))
+      nearest = i;
+  e.mid_diastole = nearest;
+  return e;
 }
 
 PictureFrame frame_at(const std::filesystem::path& run_dir, double time) {
@@ -234,6 +247,11 @@ vtkSmartPointer<vtkPolyData> trace_streamlines(vtkUnstructuredGrid* fluid,
     input_error("{}: no streamline seed lies in the lumen section of landmark '{}' (seed "
                 "spacing too coarse for the section?)",
                 frame, seed.name);
+  return trace_streamlines(fluid, seeds, options);
+}
+
+vtkSmartPointer<vtkPolyData> trace_streamlines(vtkUnstructuredGrid* fluid, vtkPolyData* seeds,
+                                               const StreamlineOptions& options) {
   double b[6];
   fluid->GetBounds(b);
   const double diagonal = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +

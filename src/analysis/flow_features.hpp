@@ -56,6 +56,15 @@ struct CycleFrames {
 CycleFrames cycle_frames(const std::filesystem::path& run_dir,
                          const geometry::Landmarks& landmarks);
 
+/// The rule of CycleFrames on any series (a simulation's frames, a scan's): the index of the
+/// largest flow, and of mid-diastole as defined there. InputError for no frame or unequal
+/// lengths.
+struct CycleEvents {
+  std::size_t peak_systole = 0;
+  std::optional<std::size_t> mid_diastole;
+};
+CycleEvents cycle_events(const std::vector<double>& time, const std::vector<double>& flow);
+
 /// The saved frame nearest `time` [s]; InputError naming flow.pvd and the saved range when
 /// `time` lies outside it (by more than half the largest gap between frames).
 PictureFrame frame_at(const std::filesystem::path& run_dir, double time);
@@ -84,6 +93,11 @@ vtkSmartPointer<vtkPolyData> trace_streamlines(vtkUnstructuredGrid* fluid,
                                                const geometry::Landmark& seed,
                                                const StreamlineOptions& options,
                                                const std::string& frame);
+
+/// The same from given seed points (another field's seed_points, so that two fields are
+/// traced from the same seeds); a seed outside `fluid` starts no line.
+vtkSmartPointer<vtkPolyData> trace_streamlines(vtkUnstructuredGrid* fluid, vtkPolyData* seeds,
+                                               const StreamlineOptions& options);
 
 /// One landmark's plane map.
 struct PlaneMap {

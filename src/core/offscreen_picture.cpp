@@ -13,15 +13,21 @@
 
 namespace tearflow {
 
-void look_from(vtkRenderer* renderer, const Vec3& from, const Vec3& up) {
-  renderer->ResetCamera();
+void look_from(vtkRenderer* renderer, const Vec3& from, const Vec3& up, const double* bounds) {
+  const auto reset = [&] {
+    if (bounds != nullptr)
+      renderer->ResetCamera(bounds);
+    else
+      renderer->ResetCamera();
+  };
+  reset();
   vtkCamera* camera = renderer->GetActiveCamera();
   double focal[3];
   camera->GetFocalPoint(focal);
   const double d = camera->GetDistance();
   camera->SetPosition(focal[0] + d * from[0], focal[1] + d * from[1], focal[2] + d * from[2]);
   camera->SetViewUp(up[0], up[1], up[2]);
-  renderer->ResetCamera();
+  reset();
   renderer->ResetCameraClippingRange();
 }
 

@@ -13,8 +13,10 @@ class vtkRenderer;
 namespace tearflow {
 
 /// Points the renderer's camera from direction `from` (towards the scene), `up` upwards, at
-/// everything the renderer holds.
-void look_from(vtkRenderer* renderer, const Vec3& from, const Vec3& up);
+/// everything the renderer holds, or at the box `bounds` (xmin, xmax, ymin, ymax, zmin, zmax)
+/// when given: two scenes framed on one box are seen by the same camera.
+void look_from(vtkRenderer* renderer, const Vec3& from, const Vec3& up,
+               const double* bounds = nullptr);
 
 /// Renders `window` off-screen and writes it as `png`. `purpose` heads the error when no X
 /// display can be had; InputError naming the file when VTK writes no picture.

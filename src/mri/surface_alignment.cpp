@@ -21,6 +21,7 @@
 #include "analysis/landmark_sections.hpp"
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
+#include "mri/lumen_field.hpp"
 
 namespace tearflow::mri {
 
@@ -136,16 +137,12 @@ IcpResult icp(vtkStaticCellLocator* locator, const std::vector<Eigen::Vector3d>&
 std::vector<Vec3> lumen_boundary_points(const Flow4D& data, double lumen_fraction) {
   const ImageGrid& g = data.grid;
   const std::size_t n = g.count();
+  const LumenLevel lumen = lumen_level(data, lumen_fraction);
+  const double level = lumen.level;
   auto values = vtkSmartPointer<vtkFloatArray>::New();
   values->SetNumberOfValues(static_cast<vtkIdType>(n));
-  std::vector<float> mean(n, 0.0f);
-  for (const Frame& f : data.frames)
-    for (std::size_t v = 0; v < n; ++v)
-      mean[v] += f.magnitude[v] / static_cast<float>(data.frames.size());
   for (std::size_t v = 0; v < n; ++v)
-    values->SetValue(static_cast<vtkIdType>(v), mean[v]);
-  std::nth_element(mean.begin(), mean.begin() + (99 * n) / 100, mean.end());
-  const double level = lumen_fraction * mean[(99 * n) / 100];
+    values->SetValue(static_cast<vtkIdType>(v), lumen.mean_magnitude[v]);
   // The image in index space (voxel centres at integer indices), as ImageGrid::point reads.
   auto image = vtkSmartPointer<vtkImageData>::New();
   image->SetDimensions(g.size[0], g.size[1], g.size[2]);
@@ -160,7 +157,7 @@ std::vector<Vec3> lumen_boundary_points(const Flow4D& data, double lumen_fractio
   contour->ComputeScalarsOff();
   contour->Update();
   vtkPoints* points = contour->GetOutput()->GetPoints();
-  if (points == nullptr || points->GetNumberOfPoints() == 0 || !(level > 0))
+  if (points == nullptr || points->GetNumberOfPoints() == 0)
     input_error("surface alignment: no lumen boundary in the MRI (time-mean magnitude level "
                 "{:.3g}: {} of its 99th percentile)",
                 level, lumen_fraction);

@@ -1,5 +1,6 @@
 #include "report/flow_pictures.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <vtkActor.h>
@@ -108,6 +109,9 @@ vtkNew<vtkActor> coloured_actor(vtkPolyData* data, const char* array, vtkLookupT
   mapper->SetScalarRange(scale.min, scale.max);
   mapper->UseLookupTableScalarRangeOn();
   mapper->ScalarVisibilityOn();
+  // The value is interpolated across a polygon and then looked up, so that each pixel shows
+  // the table's colour of its value (interpolating the corners' colours would not be one).
+  mapper->InterpolateScalarsBeforeMappingOn();
   vtkNew<vtkActor> actor;
   actor->SetMapper(mapper);
   return actor;
@@ -124,11 +128,6 @@ vtkNew<vtkActor> plain_actor(vtkPolyData* data, const std::array<double, 3>& rgb
   return actor;
 }
 
-/// Points the camera along `view` at everything the renderer holds.
-void look(vtkRenderer* renderer, const View& view) {
-  look_from(renderer, view.from, view.up);
-}
-
 /// Renders `renderer` into `png`; InputError when no picture results.
 Picture write_png(vtkRenderer* renderer, vtkScalarBarActor* bar, const PictureSize& size,
                   const std::filesystem::path& png) {
@@ -143,7 +142,8 @@ Picture write_png(vtkRenderer* renderer, vtkScalarBarActor* bar, const PictureSi
   window->SetSize(size.width, size.height);
   render_to_png(window, png, fmt::format("render '{}'", png.string()));
   const double* range = bar->GetLookupTable()->GetRange();
-  return {png, bar->GetTitle(), range[0], range[1]};
+  const int* model = renderer->GetSize();
+  return {png, bar->GetTitle(), range[0], range[1], model[0], model[1], std::nullopt};
 }
 
 vtkNew<vtkRenderer> white_renderer() {
@@ -159,14 +159,14 @@ template <typename AddActors>
 std::vector<Picture> render_views(const std::vector<View>& views, vtkLookupTable* table,
                                   const ColourScale& scale, const std::string& caption,
                                   const std::filesystem::path& directory, const std::string& stem,
-                                  const PictureSize& size, AddActors&& add) {
+                                  const PictureSize& size, const double* bounds, AddActors&& add) {
   std::vector<Picture> written;
   for (const View& view : views) {
     auto renderer = white_renderer();
     add(renderer.Get());
     auto bar = scalar_bar(table, scale);
     renderer->AddActor2D(caption_actor(caption + ", " + view.name));
-    look(renderer, view);
+    look_from(renderer, view.from, view.up, bounds);
     written.push_back(
         write_png(renderer, bar, size, directory / (stem + "_" + view.name + ".png")));
   }
@@ -200,10 +200,11 @@ std::vector<Picture> render_streamlines(vtkPolyData* streamlines, vtkPolyData* l
                                         const std::vector<View>& views, const ColourScale& speed,
                                         const std::string& caption,
                                         const std::filesystem::path& directory,
-                                        const std::string& stem, const PictureSize& size) {
+                                        const std::string& stem, const PictureSize& size,
+                                        const double* bounds) {
   const auto table = speed_table(speed);
   return render_views(
-      views, table, speed, caption, directory, stem, size, [&](vtkRenderer* renderer) {
+      views, table, speed, caption, directory, stem, size, bounds, [&](vtkRenderer* renderer) {
         auto lines = coloured_actor(streamlines, analysis::kSpeedArray, table, speed);
         lines->GetProperty()->SetLineWidth(2.0);
         renderer->AddActor(lines);
@@ -215,14 +216,16 @@ std::vector<Picture> render_streamlines(vtkPolyData* streamlines, vtkPolyData* l
 Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
                          const ColourScale& through_plane, double arrow_speed,
                          const std::string& caption, const std::filesystem::path& png,
-                         const PictureSize& size) {
+                         const PictureSize& size, const std::optional<PlaneView>& given) {
   if (maps.empty())
     input_error("cannot render '{}': no section", png.string());
+  const PlaneView view = given ? *given : plane_view(maps, size);
   const auto table = diverging_table(through_plane);
   auto renderer = white_renderer();
   for (const analysis::PlaneMap* m : maps) {
-    renderer->AddActor(
-        coloured_actor(m->section, analysis::kThroughPlaneArray, table, through_plane));
+    auto section = coloured_actor(m->section, analysis::kThroughPlaneArray, table, through_plane);
+    section->GetProperty()->LightingOff(); // a map: the table's colours, unshaded
+    renderer->AddActor(section);
     vtkNew<vtkFeatureEdges> rim;
     rim->SetInputData(m->section);
     rim->BoundaryEdgesOn();
@@ -254,15 +257,58 @@ Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
   }
   auto bar = scalar_bar(table, through_plane);
   renderer->AddActor2D(caption_actor(caption));
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->ParallelProjectionOn();
+  const Vec3& c = view.centre;
+  const double distance = 10 * view.half_height; // any: the projection is parallel
+  camera->SetFocalPoint(c[0], c[1], c[2]);
+  camera->SetPosition(c[0] + distance * view.from[0], c[1] + distance * view.from[1],
+                      c[2] + distance * view.from[2]);
+  camera->SetViewUp(view.up[0], view.up[1], view.up[2]);
+  camera->SetParallelScale(view.half_height);
+  renderer->ResetCameraClippingRange();
+  Picture p = write_png(renderer, bar, size, png);
+  p.plane = view;
+  return p;
+}
+
+PlaneView plane_view(const std::vector<const analysis::PlaneMap*>& maps, const PictureSize& size) {
+  if (maps.empty())
+    input_error("plane view: no section to frame");
   // From upstream, looking down the plane's normal; up the head's direction in the plane.
+  PlaneView v;
   const Vec3 n = maps.front()->landmark.normal;
-  const double nn = std::sqrt(dot(n, n));
-  const Vec3 from = (-1.0 / nn) * n;
-  Vec3 up = Vec3{0, 0, 1} - (dot(Vec3{0, 0, 1}, from)) * from;
+  v.from = (-1.0 / std::sqrt(dot(n, n))) * n;
+  Vec3 up = Vec3{0, 0, 1} - (dot(Vec3{0, 0, 1}, v.from)) * v.from;
   if (dot(up, up) < 1e-6)
-    up = Vec3{0, 1, 0} - (dot(Vec3{0, 1, 0}, from)) * from;
-  look(renderer, {"plane", from, up});
-  return write_png(renderer, bar, size, png);
+    up = Vec3{0, 1, 0} - (dot(Vec3{0, 1, 0}, v.from)) * v.from;
+  v.up = (1.0 / std::sqrt(dot(up, up))) * up;
+  // The camera looks along -from: the picture's x axis is (-from) x up.
+  v.right = cross(-1.0 * v.from, v.up);
+  // The sections' extent along right and up, about the plane's own origin.
+  const Vec3 o = maps.front()->landmark.origin;
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const analysis::PlaneMap* m : maps)
+    for (vtkIdType i = 0; i < m->section->GetNumberOfPoints(); ++i) {
+      Vec3 x;
+      m->section->GetPoint(i, x.data());
+      const double a[2] = {dot(x - o, v.right), dot(x - o, v.up)};
+      for (int k = 0; k < 2; ++k) {
+        lo[k] = std::min(lo[k], a[k]);
+        hi[k] = std::max(hi[k], a[k]);
+      }
+    }
+  if (lo[0] > hi[0])
+    input_error("plane view of '{}': its section holds no point", maps.front()->landmark.name);
+  v.centre = o + (0.5 * (lo[0] + hi[0])) * v.right + (0.5 * (lo[1] + hi[1])) * v.up;
+  // The half height that fits both extents in the map's part of the picture, 10 % margin.
+  const double aspect = kModelWidth * size.width / size.height;
+  v.half_height = 0.55 * std::max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect);
+  return v;
+}
+
+vtkSmartPointer<vtkLookupTable> through_plane_table(const ColourScale& scale) {
+  return diverging_table(scale);
 }
 
 std::vector<Picture> render_wall_displacement(vtkPolyData* wall, const std::vector<View>& views,
@@ -294,7 +340,7 @@ std::vector<Picture> render_wall_displacement(vtkPolyData* wall, const std::vect
   moved->SetPoints(points);
   moved->GetPointData()->AddArray(magnitude);
   const auto table = speed_table(displacement);
-  return render_views(views, table, displacement, caption, directory, stem, size,
+  return render_views(views, table, displacement, caption, directory, stem, size, nullptr,
                       [&](vtkRenderer* renderer) {
                         auto surface = coloured_actor(moved, kDisplacementMm, table, displacement);
                         surface->GetProperty()->SetOpacity(0.5);

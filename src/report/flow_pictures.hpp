@@ -7,12 +7,14 @@
 // OpenGL2 window, off-screen, on this process's X display (core/virtual_display.hpp starts
 // one when there is none).
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "analysis/flow_features.hpp"
 #include "core/types.hpp"
 
+class vtkLookupTable;
 class vtkPolyData;
 class vtkUnstructuredGrid;
 
@@ -36,35 +38,65 @@ struct ColourScale {
   double min = 0.0, max = 1.0;
 };
 
+struct PictureSize {
+  int width = 900, height = 1100; ///< [pixels]
+};
+
+inline constexpr PictureSize kPlaneMapSize{700, 700};
+
+/// How a plane map is seen: from upstream along the plane's normal (`from` points from the
+/// plane to the camera), in parallel projection, the picture's centre at `centre`, its x
+/// axis along `right` and y along `up` (unit, in the plane), `half_height` [m] from the
+/// centre to the top of the map's part of the picture. Pixel (i, j) of that part (j from the
+/// bottom, w x h pixels) shows the point
+///   centre + ((i + 1/2) - w/2) s right + ((j + 1/2) - h/2) s up,   s = 2 half_height / h.
+struct PlaneView {
+  Vec3 centre{}, right{}, up{}, from{};
+  double half_height = 0.0;
+};
+
+/// The view that frames the sections of `maps` (one plane) with a margin, for a picture of
+/// `size`; pass it to render_plane_map of another field's maps on the same plane (a scan's
+/// beside the simulation's) so that the same pixel shows the same point in both.
+PlaneView plane_view(const std::vector<const analysis::PlaneMap*>& maps, const PictureSize& size);
+
 /// A picture written, with the colour scale its scalar bar shows (read back from the bar's
 /// lookup table after rendering: what the reader sees, not what was asked for).
 struct Picture {
   std::filesystem::path file;
   std::string scale_title;
   double scale_min = 0.0, scale_max = 0.0;
-};
-
-struct PictureSize {
-  int width = 900, height = 1100; ///< [pixels]
+  int model_width = 0, model_height = 0; ///< pixels of the part left of the legend
+  std::optional<PlaneView> plane;        ///< a plane map's view
 };
 
 /// Streamlines (point array `speed`) coloured on `speed`'s scale inside `lumen` (the fluid's
 /// boundary surface, translucent), one PNG per view: `<stem>_<view>.png` in `directory`.
 /// Returns the pictures written; InputError naming a PNG VTK did not write.
+/// `bounds` (xmin, xmax, ..., zmax), when given, is the box each view frames instead of the
+/// scene's own: another field's lumen (a scan's beside the simulation's) seen by one camera.
 std::vector<Picture> render_streamlines(vtkPolyData* streamlines, vtkPolyData* lumen,
                                         const std::vector<View>& views, const ColourScale& speed,
                                         const std::string& caption,
                                         const std::filesystem::path& directory,
-                                        const std::string& stem, const PictureSize& size = {});
+                                        const std::string& stem, const PictureSize& size = {},
+                                        const double* bounds = nullptr);
 
 /// One plane's map: each section (one, or TLk and FLk of a paired station) coloured by its
 /// through-plane velocity on `through_plane`'s scale, its rim outlined (true lumen blue, false
 /// red, else black), the in-plane velocity as black arrows (an arrow of length 1.5 grid
-/// spacings at `arrow_speed` [m/s]); seen from upstream along the plane's normal.
+/// spacings at `arrow_speed` [m/s]); seen as `view` says (plane_view(maps) when none). The
+/// sections are unlit and their colour is looked up per pixel from the interpolated value, so
+/// that a pixel's colour is the table's colour of u.n there.
 Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
                          const ColourScale& through_plane, double arrow_speed,
                          const std::string& caption, const std::filesystem::path& png,
-                         const PictureSize& size = {700, 700});
+                         const PictureSize& size = kPlaneMapSize,
+                         const std::optional<PlaneView>& view = std::nullopt);
+
+/// The through-plane velocity's colour table (blue - white - red over `scale`), for a reader
+/// of the pictures that turns colours back into values.
+vtkSmartPointer<vtkLookupTable> through_plane_table(const ColourScale& scale);
 
 /// The wall's surface (point array `displacement` [m]) moved by its displacement and
 /// coloured by its magnitude on `displacement`'s scale (in mm: title "... [mm]"), one PNG per

@@ -33,35 +33,46 @@ std::string read_bytes(const std::filesystem::path& file) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-/// One run's pictures of its first frame.
-struct RunPictures {
+/// One column of the section: a run's pictures of its first frame, or the pictures of the
+/// scan `tearflow pictures --mri` drew beside them (the run's file names with "mri_" ahead).
+struct Column {
+  std::string title;
   std::filesystem::path folder;
-  std::string event;
-  double time = 0.0;
+  std::string prefix; ///< ahead of the run's file name: "" or "mri_"
   std::vector<std::string> files;
 };
 
-std::optional<RunPictures> run_pictures(const std::filesystem::path& run_dir) {
+std::vector<std::string> files_of(const json& frame) {
+  std::vector<std::string> files;
+  for (const json& picture : frame.value("pictures", json::array()))
+    files.push_back(picture.value("file", ""));
+  return files;
+}
+
+/// The run's column, and the scan's when it has pictures; none without pictures.json.
+std::vector<Column> run_columns(const std::filesystem::path& run_dir, const std::string& name) {
   const std::filesystem::path record = flow_pictures_dir(run_dir) / "pictures.json";
   std::ifstream in(record);
   if (!in)
-    return std::nullopt;
+    return {};
   const json j = json::parse(in, nullptr, false);
   if (j.is_discarded() || !j.contains("frames") || !j["frames"].is_array())
     input_error("'{}': not a record of `tearflow pictures` (no 'frames' list)", record.string());
   if (j["frames"].empty())
-    return std::nullopt;
+    return {};
   const json& f = j["frames"][0];
-  RunPictures p;
-  p.folder = record.parent_path() / f.value("folder", "");
-  p.event = f.value("event", "");
-  p.time = f.value("time_s", 0.0);
-  for (const json& picture : f.value("pictures", json::array()))
-    p.files.push_back(picture.value("file", ""));
+  Column run{fmt::format("{}: {} (t = {} s)", name, f.value("event", ""), f.value("time_s", 0.0)),
+             record.parent_path() / f.value("folder", ""), "", files_of(f)};
   // The animation over the cycle (`--animate`) lies beside the frames' folders.
   if (j.contains("animation") && j["animation"].is_object())
-    p.files.push_back("../" + j["animation"].value("file", ""));
-  return p;
+    run.files.push_back("../" + j["animation"].value("file", ""));
+  std::vector<Column> columns = {run};
+  if (f.contains("scan") && f["scan"].is_object() && f["scan"].contains("pictures"))
+    columns.push_back(
+        {fmt::format("{}: 4D-flow MRI, scan frame {} ({} s after the trigger)", name,
+                     f["scan"].value("frame", 0), f["scan"].value("time_after_trigger_s", 0.0)),
+         run.folder, "mri_", files_of(f["scan"])});
+  return columns;
 }
 
 } // namespace
@@ -72,38 +83,43 @@ std::filesystem::path flow_pictures_dir(const std::filesystem::path& run_dir) {
 
 std::string flow_patterns_section(const std::vector<std::filesystem::path>& run_dirs,
                                   const std::vector<std::string>& names) {
-  std::vector<std::optional<RunPictures>> runs;
+  std::vector<Column> columns;
   std::vector<std::string> order; // the first run's pictures, then any the others add
-  for (const std::filesystem::path& dir : run_dirs) {
-    runs.push_back(run_pictures(dir));
-    if (runs.back())
-      for (const std::string& file : runs.back()->files)
-        if (std::find(order.begin(), order.end(), file) == order.end())
-          order.push_back(file);
+  for (std::size_t i = 0; i < run_dirs.size(); ++i) {
+    std::vector<Column> run = run_columns(run_dirs[i], names[i]);
+    if (run.empty())
+      columns.push_back({names[i] + ": no pictures", {}, "", {}});
+    for (Column& c : run) {
+      if (c.prefix.empty())
+        for (const std::string& file : c.files)
+          if (std::find(order.begin(), order.end(), file) == order.end())
+            order.push_back(file);
+      columns.push_back(std::move(c));
+    }
   }
   if (order.empty())
     return "";
   std::string html = "<section id='flow-patterns'><h2>Flow patterns</h2>\n<p>From `tearflow "
                      "pictures` (docs/analysis.md, \"Flow pictures\"): streamlines coloured by "
                      "speed, and per landmark plane the through-plane velocity with the in-plane "
-                     "flow as arrows, on the colour scales each picture states.</p>\n"
+                     "flow as arrows, on the colour scales each picture states. A 4D-flow scan "
+                     "given with --mri stands beside its run, drawn from the same seeds and "
+                     "views on the same scales.</p>\n"
                      "<table class='flow-patterns'><tr>";
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    html += fmt::format(
-        "<th>{}{}</th>", escape_html(names[i]),
-        runs[i] ? fmt::format(": {} (t = {} s)", escape_html(runs[i]->event), runs[i]->time)
-                : std::string(": no pictures"));
+  for (const Column& c : columns)
+    html += fmt::format("<th>{}</th>", escape_html(c.title));
   html += "</tr>\n";
-  const std::string width = fmt::format("{}%", 100 / runs.size());
+  const std::string width = fmt::format("{}%", 100 / columns.size());
   for (const std::string& file : order) {
     html += "<tr>";
-    for (const auto& run : runs) {
+    for (const Column& c : columns) {
       html += "<td style='width:" + width + "'>";
-      if (run && std::find(run->files.begin(), run->files.end(), file) != run->files.end()) {
-        const std::string bytes = read_bytes(run->folder / file);
+      const std::string name = c.prefix + file;
+      if (std::find(c.files.begin(), c.files.end(), name) != c.files.end()) {
+        const std::string bytes = read_bytes(c.folder / name);
         if (!bytes.empty())
           html += "<img class='flow-picture' style='width:100%;max-width:560px' alt='" +
-                  escape_html(file) + "' src='data:image/png;base64," + base64(bytes) + "'>";
+                  escape_html(name) + "' src='data:image/png;base64," + base64(bytes) + "'>";
       }
       html += "</td>";
     }

@@ -17,6 +17,7 @@
 #include "io/durable_file.hpp"
 #include "report/apng.hpp"
 #include "report/flow_pictures.hpp"
+#include "report/scan_pictures.hpp"
 
 namespace tearflow::report {
 
@@ -57,26 +58,69 @@ const geometry::Landmark& seed_landmark(const geometry::Landmarks& landmarks,
 
 /// A picture's entry in pictures.json: its file and the scale its scalar bar shows.
 json picture_json(const Picture& p) {
-  return {{"file", p.file.filename().string()},
-          {"scale_title", p.scale_title},
-          {"scale_range", {p.scale_min, p.scale_max}}};
+  json j = {{"file", p.file.filename().string()},
+            {"scale_title", p.scale_title},
+            {"scale_range", {p.scale_min, p.scale_max}}};
+  if (p.plane) // where each pixel lies (flow_pictures.hpp, PlaneView)
+    j["plane_view"] = {{"centre_m", p.plane->centre},
+                       {"right", p.plane->right},
+                       {"up", p.plane->up},
+                       {"half_height_m", p.plane->half_height},
+                       {"map_pixels", {p.model_width, p.model_height}}};
+  return j;
 }
 
-/// The plane maps of one frame, a VTP pair per landmark, and a PNG per plane (TLk and FLk of
-/// a station in one picture).
+/// The planes of one picture: a paired station's TL and FL together, others alone; each with
+/// the view the run's sections set, shared by the scan's picture of the same plane.
+struct PlaneGroup {
+  std::string name; ///< "station1", "AAo"
+  std::vector<std::string> landmarks;
+  std::optional<PlaneView> view;
+};
+
+/// Which landmarks share a picture, in the landmarks' order.
+std::vector<PlaneGroup> plane_groups(const geometry::Landmarks& landmarks) {
+  std::vector<PlaneGroup> groups;
+  for (const geometry::Landmark& l : landmarks.planes) {
+    const int k = analysis::station_of(l);
+    const std::string name = k > 0 ? fmt::format("station{}", k) : l.name;
+    auto g = std::find_if(groups.begin(), groups.end(),
+                          [&](const PlaneGroup& x) { return x.name == name; });
+    if (g == groups.end())
+      g = groups.insert(groups.end(), PlaneGroup{name, {}, std::nullopt});
+    g->landmarks.push_back(l.name);
+  }
+  return groups;
+}
+
+/// One field's plane maps of a frame: a VTP pair per landmark (`prefix` ahead of each file
+/// name) and a PNG per group. The run's maps (`scan` false) set each group's view and the
+/// arrows' spacing per landmark; the scan's use them, and a landmark whose section the scan's
+/// lumen does not hold is listed under "not_in_scan" (with the reason) instead of failing the
+/// whole picture.
 json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks,
-                const analysis::PictureFrame& f, const PicturesOptions& o, const fs::path& dir,
+                const std::string& frame, const std::string& caption_head, const PicturesOptions& o,
+                const fs::path& dir, const std::string& prefix, bool scan,
+                std::vector<PlaneGroup>& groups, std::map<std::string, double>& spacing,
                 json& pictures) {
-  std::vector<analysis::PlaneMap> maps;
+  std::map<std::string, analysis::PlaneMap> maps;
   json out = json::object();
   const auto locator = analysis::fluid_locator(fluid); // one for all the planes
   for (const geometry::Landmark& l : landmarks.planes) {
-    maps.push_back(analysis::plane_map(fluid, l, 0.0, f.frame.file.string(), locator));
-    const analysis::PlaneMap& m = maps.back();
-    analysis::write_vtp(m.section, dir / ("plane_" + l.name + ".vtp"));
-    analysis::write_vtp(m.vectors, dir / ("arrows_" + l.name + ".vtp"));
-    out[l.name] = {{"section", "plane_" + l.name + ".vtp"},
-                   {"arrows", "arrows_" + l.name + ".vtp"},
+    try {
+      maps[l.name] = analysis::plane_map(fluid, l, scan ? spacing.at(l.name) : 0.0, frame, locator);
+    } catch (const InputError& e) {
+      if (!scan)
+        throw;
+      out["not_in_scan"][l.name] = e.what();
+      continue;
+    }
+    const analysis::PlaneMap& m = maps[l.name];
+    spacing[l.name] = m.vector_spacing;
+    analysis::write_vtp(m.section, dir / (prefix + "plane_" + l.name + ".vtp"));
+    analysis::write_vtp(m.vectors, dir / (prefix + "arrows_" + l.name + ".vtp"));
+    out[l.name] = {{"section", prefix + "plane_" + l.name + ".vtp"},
+                   {"arrows", prefix + "arrows_" + l.name + ".vtp"},
                    {"lumen", l.lumen},
                    {"area_m2", m.area},
                    {"flow_m3_per_s", m.flow},
@@ -85,27 +129,25 @@ json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks
   }
   if (!o.png)
     return out;
-  // One picture per plane: a paired station's TL and FL together.
-  std::map<std::string, std::vector<const analysis::PlaneMap*>> planes;
-  std::vector<std::string> order;
-  for (const analysis::PlaneMap& m : maps) {
-    const int k = analysis::station_of(m.landmark);
-    const std::string name = k > 0 ? fmt::format("station{}", k) : m.landmark.name;
-    if (!planes.count(name))
-      order.push_back(name);
-    planes[name].push_back(&m);
-  }
   const ColourScale scale{"u.n [m/s]", -o.speed_max, o.speed_max};
   // The in-plane (secondary) flow is a fraction of the through-plane one: its arrows are
   // scaled on a quarter of the speed scale, stated on the picture.
   const double arrow_speed = o.speed_max / 4;
-  for (const std::string& name : order) {
-    pictures.push_back(
-        picture_json(render_plane_map(planes[name], scale, arrow_speed,
-                                      fmt::format("{}, {} (t = {} s); arrows: 1.5 grid steps "
-                                                  "= {} m/s in plane",
-                                                  name, f.event, f.frame.time, arrow_speed),
-                                      dir / ("plane_" + name + ".png"))));
+  for (PlaneGroup& g : groups) {
+    std::vector<const analysis::PlaneMap*> drawn;
+    for (const std::string& name : g.landmarks)
+      if (maps.count(name))
+        drawn.push_back(&maps.at(name));
+    if (drawn.empty())
+      continue;
+    if (!g.view)
+      g.view = plane_view(drawn, kPlaneMapSize);
+    const Picture p =
+        render_plane_map(drawn, scale, arrow_speed,
+                         fmt::format("{}{}; arrows: 1.5 grid steps = {} m/s in plane", caption_head,
+                                     g.name, arrow_speed),
+                         dir / (prefix + "plane_" + g.name + ".png"), kPlaneMapSize, g.view);
+    pictures.push_back(picture_json(p));
   }
   return out;
 }
@@ -145,6 +187,44 @@ json animate(const analysis::CycleFrames& cycle, const geometry::Landmark& seed,
                t.push_back(f.time);
              return t;
            }()}};
+}
+
+/// The scan's pictures of the run frame of `event` (none when the scan has no such frame):
+/// streamlines from the run's `seeds` (when given) in the run's camera (`bounds` its lumen's),
+/// and the plane maps in the run's views and arrow spacing; files prefixed "mri_".
+json scan_frame(const ScanPictures& scan, const std::string& event, vtkPolyData* seeds,
+                const double* bounds, const geometry::Landmarks& landmarks,
+                const std::vector<View>& views, const PicturesOptions& o, const fs::path& dir,
+                std::vector<PlaneGroup>& groups, std::map<std::string, double>& spacing) {
+  const std::optional<std::size_t> k = scan.frame_of(event);
+  if (!k)
+    return {{"event", event}, {"frame", nullptr}, {"why", "the scan's flow has no such frame"}};
+  const double t = scan.time_of(*k);
+  const std::string name = fmt::format("scan frame {} ({} s after the trigger)", *k, t);
+  const auto field = scan.field(*k);
+  json pictures = json::array();
+  json entry = {{"event", event}, {"frame", *k}, {"time_after_trigger_s", t}};
+  if (seeds != nullptr) {
+    analysis::StreamlineOptions so;
+    const auto lines = analysis::trace_streamlines(field, seeds, so);
+    analysis::write_vtp(lines, dir / "mri_streamlines.vtp");
+    entry["streamlines"] = {{"file", "mri_streamlines.vtp"},
+                            {"seeds", seeds->GetNumberOfPoints()},
+                            {"lines", lines->GetNumberOfLines()},
+                            {"points", lines->GetNumberOfPoints()}};
+    if (o.png)
+      for (const Picture& p : render_streamlines(
+               lines, boundary_surface(field), views, {"speed [m/s]", 0.0, o.speed_max},
+               fmt::format("4D-flow MRI: streamlines, {}, {}", event, name), dir, "mri_streamlines",
+               {}, bounds))
+        pictures.push_back(picture_json(p));
+  }
+  entry["planes"] = plane_maps(field, landmarks, name, fmt::format("4D-flow MRI, {}, ", event), o,
+                               dir, "mri_", true, groups, spacing, pictures);
+  entry["pictures"] = pictures;
+  if (!o.quiet)
+    fmt::print("  scan: {}, {} pictures\n", name, pictures.size());
+  return entry;
 }
 
 } // namespace
@@ -193,6 +273,15 @@ int make_pictures(const PicturesOptions& o) {
                    {"displacement_mm", {0.0, o.displacement_max / units::mm}},
                    {"in_plane_arrow_of_1.5_grid_steps_m_per_s", o.speed_max / 4}}},
                  {"frames", json::array()}};
+  std::optional<ScanPictures> scan;
+  if (!o.scan.scan.empty()) {
+    if (o.time >= 0)
+      input_error("pictures: --mri pictures the scan at the cycle's events (peak systole, "
+                  "mid-diastole); leave out --time");
+    scan.emplace(o.scan, o.run_dir, landmarks);
+    record["scan"] = scan->record();
+  }
+  std::vector<PlaneGroup> groups = plane_groups(landmarks);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const analysis::PictureFrame& f = frames[i];
     const fs::path dir = out / folder_of(f);
@@ -203,9 +292,12 @@ int make_pictures(const PicturesOptions& o) {
                   {"time_s", f.frame.time},
                   {"frame", f.frame.file.string()},
                   {"folder", folder_of(f)}};
+    const auto lumen = boundary_surface(fluid);
+    vtkSmartPointer<vtkPolyData> seeds;
     if (i == 0) { // streamlines and the wall at the first frame (peak systole, or the asked)
       analysis::StreamlineOptions so;
       so.seed_spacing = o.seed_spacing;
+      seeds = analysis::seed_points(fluid, seed, so, f.frame.file.string());
       const auto lines = analysis::trace_streamlines(fluid, seed, so, f.frame.file.string());
       analysis::write_vtp(lines, dir / "streamlines.vtp");
       entry["streamlines"] = {{"file", "streamlines.vtp"},
@@ -216,8 +308,8 @@ int make_pictures(const PicturesOptions& o) {
         const std::string caption =
             fmt::format("streamlines from {}, {} (t = {} s)", seed.name, f.event, f.frame.time);
         for (const Picture& p :
-             render_streamlines(lines, boundary_surface(fluid), views,
-                                {"speed [m/s]", 0.0, o.speed_max}, caption, dir, "streamlines"))
+             render_streamlines(lines, lumen, views, {"speed [m/s]", 0.0, o.speed_max}, caption,
+                                dir, "streamlines", {}, lumen->GetBounds()))
           pictures.push_back(picture_json(p));
       }
       // (read only for a picture: the wall has no VTP of its own)
@@ -232,8 +324,14 @@ int make_pictures(const PicturesOptions& o) {
           pictures.push_back(picture_json(p));
       }
     }
-    entry["planes"] = plane_maps(fluid, landmarks, f, o, dir, pictures);
+    std::map<std::string, double> spacing;
+    entry["planes"] = plane_maps(fluid, landmarks, f.frame.file.string(),
+                                 fmt::format("{} (t = {} s), ", f.event, f.frame.time), o, dir, "",
+                                 false, groups, spacing, pictures);
     entry["pictures"] = pictures;
+    if (scan)
+      entry["scan"] = scan_frame(*scan, f.event, seeds, lumen->GetBounds(), landmarks, views, o,
+                                 dir, groups, spacing);
     record["frames"].push_back(entry);
     if (!o.quiet)
       fmt::print("{} (t = {} s): {} pictures in '{}'\n", f.event, f.frame.time, pictures.size(),
@@ -280,6 +378,20 @@ PicturesCommand::PicturesCommand(CLI::App& app) {
   command_->add_flag("--no-png", no_png_, "the VTP files and pictures.json only, no rendering");
   command_->add_flag("--animate", options_.animate,
                      "also the streamlines of every frame of the cycle as an animated PNG");
+  command_->add_option("--mri", options_.scan.scan,
+                       "a 4D-flow scan (DICOM folder or volume folder, as `mri flow` reads it): "
+                       "the same streamlines and plane maps from it, beside the run's");
+  command_->add_option("--mri-align", options_.scan.align,
+                       "paired model / MRI points (JSON) placing the scan (default: the scan is "
+                       "in the model's coordinates)");
+  command_->add_flag("--mri-align-surface", options_.scan.align_surface,
+                     "place the scan by fitting its lumen surface to the run's mesh (ICP, "
+                     "started from --mri-align when given)");
+  command_
+      ->add_option("--mri-lumen-fraction", options_.scan.lumen_fraction,
+                   "the scan's lumen: time-mean magnitude >= this x its 99th percentile "
+                   "(default 0.6)")
+      ->check(CLI::Range(0.05, 0.95));
   command_->add_flag("-q,--quiet", options_.quiet, "no summary lines");
 }
 

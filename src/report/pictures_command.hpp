@@ -1,13 +1,18 @@
 #pragma once
 // `tearflow pictures RUN_DIR [--model DIR | --landmarks FILE] [--time T] [--seed LANDMARK]
-// [--speed-max M] [--displacement-max-mm D] [--animate] [--no-png] [-o DIR]`: the flow-pattern
+// [--speed-max M] [--displacement-max-mm D] [--animate] [--no-png] [--mri SCAN [--mri-align F]
+// [--mri-align-surface]] [-o DIR]`: the flow-pattern
 // figures of a run (issue 30, docs/analysis.md "Flow pictures"): streamlines at peak systole (or
 // the frame nearest T) from standard views, plane maps at every landmark at peak systole and
 // mid-diastole, the wall's displacement of an FSI run; the geometry as VTP beside the PNGs,
-// and pictures.json saying what each file shows and on which colour scale.
+// and pictures.json saying what each file shows and on which colour scale. With --mri, the
+// same streamlines (same seeds and cameras) and plane maps (same views) from a 4D-flow scan,
+// files prefixed "mri_" beside the run's.
 #include <string>
 
 #include <CLI/CLI.hpp>
+
+#include "report/scan_pictures.hpp"
 
 namespace tearflow::report {
 
@@ -21,6 +26,8 @@ struct PicturesOptions {
   /// Also the streamlines of every frame of the cycle as one animated PNG (first view with
   /// the tears face on, else anterior).
   bool animate = false;
+  /// A 4D-flow scan pictured beside the run (report/scan_pictures.hpp); scan.scan empty: none.
+  ScanOptions scan;
 };
 
 /// Makes the pictures; returns the exit code. InputError for bad input (a missing run
