@@ -1,6 +1,6 @@
 #pragma once
-// Running the `tearflow` program from tests: its exit code and output, and fresh output
-// directories under the system's temporary folder.
+// Running the `tearflow` program (and other programs) from tests: its exit code and output,
+// and fresh output directories under the system's temporary folder.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,16 +16,20 @@ struct Result {
   std::string output; // stdout and stderr
 };
 
-/// Runs `tearflow ARGS`, optionally under a launcher such as "mpirun -n 2".
-inline Result run_tearflow(const std::string& args, const std::string& launcher = "") {
-  const std::string cmd = launcher + " " + TEARFLOW_BINARY + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
+/// Runs the shell command `cmd`, its standard error with its output.
+inline Result run_command(const std::string& cmd) {
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
   std::string out;
   char buf[4096];
   while (size_t n = fread(buf, 1, sizeof buf, p))
     out.append(buf, n);
   const int status = pclose(p);
   return {WEXITSTATUS(status), out};
+}
+
+/// Runs `tearflow ARGS`, optionally under a launcher such as "mpirun -n 2".
+inline Result run_tearflow(const std::string& args, const std::string& launcher = "") {
+  return run_command(launcher + " " + TEARFLOW_BINARY + " " + args);
 }
 
 /// An empty directory path `<tmp>/tearflow-test-<name>` (removed if it existed). ctest runs

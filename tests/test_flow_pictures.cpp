@@ -1,4 +1,4 @@
-// The flow pictures (issue 30) on a CI-sized synthetic run (tests/analysis_support.hpp): a
+// The flow pictures (issue 30) on a CI-sized synthetic run (tests/pictures_support.hpp): a
 // two-lumen channel, a true lumen (x = 0, r = 5 mm) and a false lumen beside it (x = 12 mm,
 // r = 4 mm), each carrying Poiseuille flow along z with a time-varying amplitude, so that
 // every streamline is a straight line along z and every plane's flow is known.
@@ -25,8 +25,6 @@
 #include <vtkCellLocator.h>
 #include <vtkDataArray.h>
 #include <vtkGenericCell.h>
-#include <vtkImageData.h>
-#include <vtkPNGReader.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
@@ -39,45 +37,20 @@
 #include "core/virtual_display.hpp"
 #include "io/vtu_series.hpp"
 #include "mesh/pipe_generator.hpp"
+#include "pictures_support.hpp"
 #include "report/flow_section.hpp"
 
 namespace tearflow {
 namespace {
 
+using testing::drawn_fraction;
+using testing::RunFolder;
 using testing::SyntheticLumen;
 using testing::SyntheticRun;
+using testing::two_lumen_landmarks;
+using testing::two_lumen_run;
 
-constexpr double kLength = 0.03; // [m]
-
-SyntheticRun two_lumen_run() {
-  SyntheticRun run;
-  run.lumina = {SyntheticLumen{0.0, 0.005, 0.6, 1.0e4}, SyntheticLumen{0.012, 0.004, 0.3, 0.9e4}};
-  run.length = kLength;
-  run.element_size = 0.001; // 1 mm: 20 k tets, and a flow error of 1-2 % at most
-  return run;
-}
-
-geometry::Landmarks two_lumen_landmarks(const SyntheticRun& run) {
-  geometry::Landmarks l;
-  l.planes = {testing::plane_at(run, "inlet", 0.004), testing::plane_at(run, "TL1", 0.015, 0, "TL"),
-              testing::plane_at(run, "FL1", 0.015, 1, "FL"),
-              testing::plane_at(run, "outlet", 0.026)};
-  return l;
-}
-
-/// A run folder laid out as `tearflow run` writes one, with its landmarks in geometry/.
-struct RunFolder {
-  SyntheticRun run = two_lumen_run();
-  std::filesystem::path dir;
-  testing::EdgeLengths edges;
-  geometry::Landmarks landmarks;
-  explicit RunFolder(const std::string& name) : dir(testing::fresh_dir(name)) {
-    edges = testing::write_synthetic_run(run, dir);
-    landmarks = two_lumen_landmarks(run);
-    std::filesystem::create_directories(dir / "geometry");
-    geometry::write_landmarks(landmarks, dir / "geometry" / "landmarks.json");
-  }
-};
+constexpr double kLength = testing::kTwoLumenLength; // [m]
 
 TEST(FlowFeatures, StreamlinesStartOnTheSeedPlaneAndStayInTheLumen) {
   const RunFolder f("flow-features-streamlines");
@@ -186,25 +159,6 @@ TEST(FlowFeatures, MidDiastoleIsAfterTheFlowFalls) {
   // The frame nearest a time, and a time outside the run refused with the run's range.
   EXPECT_NEAR(analysis::frame_at(dir, 0.33).frame.time, 0.3, 1e-12);
   EXPECT_THROW(analysis::frame_at(dir, 0.9), InputError);
-}
-
-/// The share of a PNG's pixels that differ from the white background.
-double drawn_fraction(const std::filesystem::path& png) {
-  auto reader = vtkSmartPointer<vtkPNGReader>::New();
-  reader->SetFileName(png.c_str());
-  reader->Update();
-  vtkImageData* image = reader->GetOutput();
-  vtkDataArray* rgb = image->GetPointData()->GetScalars();
-  if (rgb == nullptr || rgb->GetNumberOfTuples() == 0)
-    return 0.0;
-  vtkIdType drawn = 0;
-  for (vtkIdType i = 0; i < rgb->GetNumberOfTuples(); ++i)
-    for (int c = 0; c < std::min(3, rgb->GetNumberOfComponents()); ++c)
-      if (rgb->GetComponent(i, c) < 250) {
-        ++drawn;
-        break;
-      }
-  return static_cast<double>(drawn) / static_cast<double>(rgb->GetNumberOfTuples());
 }
 
 // Headless: DISPLAY removed, so the program starts its own X server (core/virtual_display).

@@ -1,5 +1,5 @@
 // A 4D-flow scan pictured beside the run (issue 30): a synthetic scan of the two-lumen run of
-// tests/test_flow_pictures.cpp (mri::synthesize_run, axis-aligned 1 mm voxels, SNR 40) goes
+// tests/pictures_support.hpp (mri::synthesize_run, axis-aligned 1 mm voxels, SNR 40) goes
 // through `tearflow pictures RUN --mri SCAN`, and the scan's plane maps are compared with the
 // run's on the rendered PNGs: each pixel's colour is turned back into u.n through the
 // pictures' colour table, and the pixel's position on the plane comes from the view recorded
@@ -44,12 +44,12 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include "analysis/flow_features.hpp"
-#include "analysis_support.hpp"
 #include "cli_support.hpp"
 #include "core/virtual_display.hpp"
 #include "mri/alignment.hpp"
 #include "mri/image_io.hpp"
 #include "mri/synthetic_run.hpp"
+#include "pictures_support.hpp"
 #include "report/flow_pictures.hpp"
 #include "report/flow_section.hpp"
 
@@ -71,17 +71,11 @@ struct ScannedRun {
   double circumradius = 0.0; ///< the mesh's largest tetrahedron circumradius [m]
 
   explicit ScannedRun(bool with_scan = true) {
-    run.lumina = {SyntheticLumen{0.0, 0.005, 0.6, 1.0e4}, SyntheticLumen{0.012, 0.004, 0.3, 0.9e4}};
-    run.length = 0.03;
-    run.element_size = 0.001;
+    run = testing::two_lumen_run();
     testing::write_synthetic_run(run, dir / "run");
-    geometry::Landmarks l;
-    l.planes = {
-        testing::plane_at(run, "inlet", 0.004), testing::plane_at(run, "TL1", 0.015, 0, "TL"),
-        testing::plane_at(run, "FL1", 0.015, 1, "FL"), testing::plane_at(run, "outlet", 0.026)};
     std::filesystem::create_directories(dir / "run" / "geometry");
-    geometry::write_landmarks(l, dir / "run" / "geometry" / "landmarks.json");
-
+    geometry::write_landmarks(testing::two_lumen_landmarks(run),
+                              dir / "run" / "geometry" / "landmarks.json");
     if (!with_scan)
       return;
     mri::RunScan scan;

@@ -7,6 +7,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <vtkAbstractCellLocator.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -15,8 +18,10 @@
 #include "core/file_layout.hpp"
 #include "core/units.hpp"
 #include "io/durable_file.hpp"
+#include "io/vtu_series.hpp"
 #include "report/apng.hpp"
 #include "report/flow_pictures.hpp"
+#include "report/paraview_state.hpp"
 #include "report/scan_pictures.hpp"
 
 namespace tearflow::report {
@@ -25,6 +30,8 @@ namespace {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
+
+constexpr const char* kParaviewState = "flow.pvsm";
 
 /// A folder name for a frame: "peak-systole", "mid-diastole", "t-0.25s".
 std::string folder_of(const analysis::PictureFrame& f) {
@@ -54,6 +61,12 @@ const geometry::Landmark& seed_landmark(const geometry::Landmarks& landmarks,
   if (landmarks.planes.empty())
     input_error("pictures: the landmarks hold no plane to seed streamlines on");
   return landmarks.planes.front();
+}
+
+/// The in-plane (secondary) flow is a fraction of the through-plane one: its arrows (an
+/// arrow of 1.5 grid steps) are scaled on a quarter of the speed scale, stated on the picture.
+double in_plane_arrow_speed(const PicturesOptions& o) {
+  return o.speed_max / 4;
 }
 
 /// A picture's entry in pictures.json: its file and the scale its scalar bar shows.
@@ -130,9 +143,7 @@ json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks
   if (!o.png)
     return out;
   const ColourScale scale{"u.n [m/s]", -o.speed_max, o.speed_max};
-  // The in-plane (secondary) flow is a fraction of the through-plane one: its arrows are
-  // scaled on a quarter of the speed scale, stated on the picture.
-  const double arrow_speed = o.speed_max / 4;
+  const double arrow_speed = in_plane_arrow_speed(o);
   for (PlaneGroup& g : groups) {
     std::vector<const analysis::PlaneMap*> drawn;
     for (const std::string& name : g.landmarks)
@@ -150,6 +161,32 @@ json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks
     pictures.push_back(picture_json(p));
   }
   return out;
+}
+
+/// The ParaView state's scene (paraview_state.hpp): the run's series and the first frame's
+/// files (`entry`, its record in pictures.json), named from the state's folder `out`, and its
+/// lumen `fluid`, which the cameras frame.
+StateScene state_scene(const RunFiles& run, const fs::path& out, const json& entry,
+                       vtkUnstructuredGrid* fluid, const std::vector<View>& views,
+                       const PicturesOptions& o) {
+  StateScene s;
+  s.flow_pvd = fs::relative(run.flow_pvd(), out).generic_string();
+  if (vtkDataArray* region = fluid->GetCellData()->GetArray(io::kRegionArray);
+      region != nullptr && region->GetNumberOfTuples() > 0)
+    s.fluid_region = static_cast<long>(region->GetTuple1(0)); // the fluid's cells only
+  s.displaced = fluid->GetPointData()->GetArray("displacement") != nullptr;
+  s.time = entry["time_s"];
+  const fs::path folder = entry["folder"].get<std::string>();
+  s.streamlines = (folder / entry["streamlines"]["file"].get<std::string>()).generic_string();
+  for (const auto& [name, plane] : entry["planes"].items())
+    s.planes.push_back({name, (folder / plane["section"].get<std::string>()).generic_string(),
+                        (folder / plane["arrows"].get<std::string>()).generic_string(),
+                        plane["arrow_spacing_m"]});
+  s.speed_max = o.speed_max;
+  s.arrow_speed = in_plane_arrow_speed(o);
+  fluid->GetBounds(s.bounds.data());
+  s.views = views;
+  return s;
 }
 
 /// The streamlines of every frame of the cycle from one view (the flap's, else the first),
@@ -271,7 +308,7 @@ int make_pictures(const PicturesOptions& o) {
                   {{"speed_m_per_s", {0.0, o.speed_max}},
                    {"through_plane_velocity_m_per_s", {-o.speed_max, o.speed_max}},
                    {"displacement_mm", {0.0, o.displacement_max / units::mm}},
-                   {"in_plane_arrow_of_1.5_grid_steps_m_per_s", o.speed_max / 4}}},
+                   {"in_plane_arrow_of_1.5_grid_steps_m_per_s", in_plane_arrow_speed(o)}}},
                  {"frames", json::array()}};
   std::optional<ScanPictures> scan;
   if (!o.scan.scan.empty()) {
@@ -329,6 +366,11 @@ int make_pictures(const PicturesOptions& o) {
                                  fmt::format("{} (t = {} s), ", f.event, f.frame.time), o, dir, "",
                                  false, groups, spacing, pictures);
     entry["pictures"] = pictures;
+    if (i == 0) { // the first frame in ParaView, beside the pictures
+      io::write_file_atomically(out / kParaviewState,
+                                paraview_state(state_scene(run, out, entry, fluid, views, o)));
+      record["paraview_state"] = kParaviewState;
+    }
     if (scan)
       entry["scan"] = scan_frame(*scan, f.event, seeds, lumen->GetBounds(), landmarks, views, o,
                                  dir, groups, spacing);

@@ -5,7 +5,8 @@
 // figures of a run (issue 30, docs/analysis.md "Flow pictures"): streamlines at peak systole (or
 // the frame nearest T) from standard views, plane maps at every landmark at peak systole and
 // mid-diastole, the wall's displacement of an FSI run; the geometry as VTP beside the PNGs,
-// and pictures.json saying what each file shows and on which colour scale. With --mri, the
+// and pictures.json saying what each file shows and on which colour scale, and flow.pvsm,
+// the first frame as a ParaView state (paraview_state.hpp). With --mri, the
 // same streamlines (same seeds and cameras) and plane maps (same views) from a 4D-flow scan,
 // files prefixed "mri_" beside the run's.
 #include <string>

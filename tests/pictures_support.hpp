@@ -1,0 +1,73 @@
+#pragma once
+// The flow pictures' CI-sized run (tests/test_flow_pictures.cpp, tests/test_paraview_state.cpp):
+// a two-lumen channel, a true lumen (x = 0, r = 5 mm) and a false lumen beside it (x = 12 mm,
+// r = 4 mm), each carrying Poiseuille flow along z with a time-varying amplitude
+// (tests/analysis_support.hpp), with landmarks at the inlet, a TL/FL station and the outlet;
+// and how much of a picture is drawn.
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkPNGReader.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+
+#include "analysis_support.hpp"
+#include "cli_support.hpp"
+#include "geometry/landmarks.hpp"
+
+namespace tearflow::testing {
+
+inline constexpr double kTwoLumenLength = 0.03; // [m]
+
+inline SyntheticRun two_lumen_run() {
+  SyntheticRun run;
+  run.lumina = {SyntheticLumen{0.0, 0.005, 0.6, 1.0e4}, SyntheticLumen{0.012, 0.004, 0.3, 0.9e4}};
+  run.length = kTwoLumenLength;
+  run.element_size = 0.001; // 1 mm: 20 k tets, and a flow error of 1-2 % at most
+  return run;
+}
+
+inline geometry::Landmarks two_lumen_landmarks(const SyntheticRun& run) {
+  geometry::Landmarks l;
+  l.planes = {plane_at(run, "inlet", 0.004), plane_at(run, "TL1", 0.015, 0, "TL"),
+              plane_at(run, "FL1", 0.015, 1, "FL"), plane_at(run, "outlet", 0.026)};
+  return l;
+}
+
+/// A run folder laid out as `tearflow run` writes one, with its landmarks in geometry/.
+struct RunFolder {
+  SyntheticRun run = two_lumen_run();
+  std::filesystem::path dir;
+  EdgeLengths edges;
+  geometry::Landmarks landmarks;
+  explicit RunFolder(const std::string& name) : dir(fresh_dir(name)) {
+    edges = write_synthetic_run(run, dir);
+    landmarks = two_lumen_landmarks(run);
+    std::filesystem::create_directories(dir / "geometry");
+    geometry::write_landmarks(landmarks, dir / "geometry" / "landmarks.json");
+  }
+};
+
+/// The share of a PNG's pixels that differ from the white background.
+inline double drawn_fraction(const std::filesystem::path& png) {
+  auto reader = vtkSmartPointer<vtkPNGReader>::New();
+  reader->SetFileName(png.c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  vtkDataArray* rgb = image->GetPointData()->GetScalars();
+  if (rgb == nullptr || rgb->GetNumberOfTuples() == 0)
+    return 0.0;
+  vtkIdType drawn = 0;
+  for (vtkIdType i = 0; i < rgb->GetNumberOfTuples(); ++i)
+    for (int c = 0; c < std::min(3, rgb->GetNumberOfComponents()); ++c)
+      if (rgb->GetComponent(i, c) < 250) {
+        ++drawn;
+        break;
+      }
+  return static_cast<double>(drawn) / static_cast<double>(rgb->GetNumberOfTuples());
+}
+
+} // namespace tearflow::testing
