@@ -230,6 +230,19 @@ TEST(FlowPictures, CommandRendersNonEmptyPicturesOnTheStatedScale) {
   EXPECT_EQ(count(two, "src='data:image/png;base64,"), peak["pictures"].size() + 1);
   EXPECT_NE(two.find("EN: no pictures"), std::string::npos);
   EXPECT_TRUE(report::flow_patterns_section({f.dir / "no-such-run"}, {"EN"}).empty());
+  // This run has no mesh beside its landmarks: no model picture, and the record says why.
+  EXPECT_TRUE(record["model"]["file"].is_null());
+  EXPECT_NE(record["model"]["why"].get<std::string>().find("mesh.msh"), std::string::npos);
+
+  // The comparison page's figures folder gets a copy of every picture it shows, the
+  // animation's single frames left out.
+  const auto figures = f.dir / "comparison_figures";
+  const std::size_t copied =
+      report::copy_flow_pictures({f.dir, f.dir / "no-such-run"}, {"OR rigid", "EN"}, figures);
+  EXPECT_EQ(copied, peak["pictures"].size() + 1); // one frame pictured, and the animation
+  EXPECT_TRUE(std::filesystem::exists(figures / "flow" / "OR_rigid" / "peak-systole" /
+                                      "plane_station1.png"));
+  EXPECT_FALSE(std::filesystem::exists(figures / "flow" / "OR_rigid" / "animation"));
 }
 
 // An FSI frame: a pipe with its wall region (fluid r < 5 mm, wall 5-6 mm), Poiseuille flow in

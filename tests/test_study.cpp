@@ -122,6 +122,13 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
                              "run/analysis/metrics.json", "run/analysis/report.html"})
       EXPECT_TRUE(fs::exists(out / v / file)) << v << "/" << file;
   EXPECT_TRUE(fs::exists(out / "report.html"));
+  // The pictures stages: each variant's model picture and flow pictures, side by side on the
+  // comparison page, and copied into its figures folder.
+  for (const char* v : {"OR", "EN"})
+    for (const char* file : {"model.png", "peak-systole/plane_station1.png"}) {
+      EXPECT_TRUE(fs::exists(out / v / "run/analysis/figures/flow" / file)) << v << "/" << file;
+      EXPECT_TRUE(fs::exists(out / "report_figures/flow" / v / file)) << v << "/" << file;
+    }
   // The reduced-order model: calibrated on both variants' runs (their tears differ, so the
   // size exponent is fitted), swept, its maps with both variants marked in the report.
   const json calibration = read_json(out / "OR" / "geometry" / "rom" / "calibration.json");
@@ -132,6 +139,7 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
   const std::string report = read_text(out / "report.html");
   EXPECT_NE(report.find("Tear-size maps (reduced-order model)"), std::string::npos);
   EXPECT_NE(report.find(">EN</text>"), std::string::npos);
+  EXPECT_NE(report.find("alt='../model.png'"), std::string::npos);
   const json summary = read_json(out / "summary.json");
   // Every metric of each variant's analysis is in the summary as the analysis wrote it.
   for (const char* v : {"OR", "EN"}) {

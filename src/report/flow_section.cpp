@@ -63,7 +63,10 @@ std::vector<Column> run_columns(const std::filesystem::path& run_dir, const std:
   const json& f = j["frames"][0];
   Column run{fmt::format("{}: {} (t = {} s)", name, f.value("event", ""), f.value("time_s", 0.0)),
              record.parent_path() / f.value("folder", ""), "", files_of(f)};
-  // The animation over the cycle (`--animate`) lies beside the frames' folders.
+  // The model's picture and the animation over the cycle (`--animate`) lie beside the
+  // frames' folders: the model first, the geometry the flow is read against.
+  if (j.contains("model") && j["model"].is_object() && j["model"]["file"].is_string())
+    run.files.insert(run.files.begin(), "../" + j["model"]["file"].get<std::string>());
   if (j.contains("animation") && j["animation"].is_object())
     run.files.push_back("../" + j["animation"].value("file", ""));
   std::vector<Column> columns = {run};
@@ -126,6 +129,35 @@ std::string flow_patterns_section(const std::vector<std::filesystem::path>& run_
     html += "</tr>\n";
   }
   return html + "</table></section>\n";
+}
+
+std::size_t copy_flow_pictures(const std::vector<std::filesystem::path>& run_dirs,
+                               const std::vector<std::string>& names,
+                               const std::filesystem::path& figures) {
+  namespace fs = std::filesystem;
+  std::size_t copied = 0;
+  for (std::size_t i = 0; i < run_dirs.size(); ++i) {
+    const fs::path from = flow_pictures_dir(run_dirs[i]);
+    if (!fs::exists(from / "pictures.json"))
+      continue;
+    std::string folder = names[i];
+    std::replace(folder.begin(), folder.end(), ' ', '_'); // "OR rigid" -> OR_rigid
+    for (const fs::directory_entry& e : fs::recursive_directory_iterator(from)) {
+      if (!e.is_regular_file() || e.path().extension() != ".png" ||
+          e.path().parent_path().filename() == "animation") // the animation's own frames
+        continue;
+      const fs::path to = figures / "flow" / folder / fs::relative(e.path(), from);
+      std::error_code ec;
+      fs::create_directories(to.parent_path(), ec);
+      if (!ec)
+        fs::copy_file(e.path(), to, fs::copy_options::overwrite_existing, ec);
+      if (ec)
+        input_error("cannot copy the picture '{}' to '{}': {}", e.path().string(), to.string(),
+                    ec.message());
+      ++copied;
+    }
+  }
+  return copied;
 }
 
 } // namespace tearflow::report

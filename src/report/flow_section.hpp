@@ -19,4 +19,12 @@ std::filesystem::path flow_pictures_dir(const std::filesystem::path& run_dir);
 std::string flow_patterns_section(const std::vector<std::filesystem::path>& run_dirs,
                                   const std::vector<std::string>& names);
 
+/// Copies the PNGs of each run's pictures (every frame's, the model's and the animation; not
+/// the animation's single frames) into FIGURES/flow/<name>/ (spaces in the name as '_'), the
+/// layout of the pictures folder kept, beside the page's own figures. Returns the count;
+/// InputError naming the file a copy fails on (a full disk).
+std::size_t copy_flow_pictures(const std::vector<std::filesystem::path>& run_dirs,
+                               const std::vector<std::string>& names,
+                               const std::filesystem::path& figures);
+
 } // namespace tearflow::report

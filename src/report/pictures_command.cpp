@@ -17,6 +17,8 @@
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
 #include "core/units.hpp"
+#include "geometry/fsi_mesh.hpp"
+#include "geometry/geometry_report.hpp"
 #include "io/durable_file.hpp"
 #include "io/vtu_series.hpp"
 #include "report/apng.hpp"
@@ -264,6 +266,24 @@ json scan_frame(const ScanPictures& scan, const std::string& event, vtkPolyData*
   return entry;
 }
 
+/// The model's picture (geometry/render.cpp: faces, tears and landmark planes named) when
+/// the landmarks' folder holds its mesh: model.png in `out`; else the record says why.
+json model_picture(const fs::path& model_dir, const geometry::Landmarks& landmarks,
+                   const PicturesOptions& o, const fs::path& out) {
+  const GeometryFiles model{model_dir};
+  if (!o.png)
+    return {{"file", nullptr}, {"why", "--no-png"}};
+  if (!fs::exists(model.mesh())) {
+    if (!o.quiet)
+      fmt::print("no model picture: '{}' does not exist\n", model.mesh().string());
+    return {{"file", nullptr}, {"why", fmt::format("no mesh '{}'", model.mesh().string())}};
+  }
+  // The geometry folders' meshes are in mm (docs/geometry.md).
+  geometry::render_geometry(geometry::read_fsi_mesh(model.mesh(), units::mm), landmarks,
+                            out / "model.png");
+  return {{"file", "model.png"}, {"mesh", model.mesh().string()}};
+}
+
 } // namespace
 
 int make_pictures(const PicturesOptions& o) {
@@ -310,6 +330,8 @@ int make_pictures(const PicturesOptions& o) {
                    {"displacement_mm", {0.0, o.displacement_max / units::mm}},
                    {"in_plane_arrow_of_1.5_grid_steps_m_per_s", in_plane_arrow_speed(o)}}},
                  {"frames", json::array()}};
+  fs::create_directories(out);
+  record["model"] = model_picture(landmarks_file.parent_path(), landmarks, o, out);
   std::optional<ScanPictures> scan;
   if (!o.scan.scan.empty()) {
     if (o.time >= 0)

@@ -106,6 +106,10 @@ int ReportCommand::run() const {
     figures += "_figures";
     write_page(with_section(report_html(runs, mri), sweep + flow), page, png_, figures, chromium_,
                quiet_);
+    // The flow pictures beside the page's figures, so that the figures folder holds every
+    // picture the page shows (a run's own page finds them in its analysis/figures/flow/).
+    if (const std::size_t n = copy_flow_pictures(dirs, names, figures); n > 0 && !quiet_)
+      fmt::print("copied {} flow pictures into '{}'\n", n, (figures / "flow").string());
   }
   return 0;
 }
