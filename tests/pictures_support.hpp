@@ -6,6 +6,7 @@
 // and how much of a picture is drawn.
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include <vtkDataArray.h>
@@ -43,7 +44,12 @@ struct RunFolder {
   std::filesystem::path dir;
   EdgeLengths edges;
   geometry::Landmarks landmarks;
-  explicit RunFolder(const std::string& name) : dir(fresh_dir(name)) {
+  /// `change` alters the run before it is written (a moving wall, other amplitudes).
+  explicit RunFolder(const std::string& name,
+                     const std::function<void(SyntheticRun&)>& change = nullptr)
+      : dir(fresh_dir(name)) {
+    if (change)
+      change(run);
     edges = write_synthetic_run(run, dir);
     landmarks = two_lumen_landmarks(run);
     std::filesystem::create_directories(dir / "geometry");

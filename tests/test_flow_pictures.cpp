@@ -307,6 +307,38 @@ TEST(FlowPictures, FsiRunShowsTheWallsDisplacementOnItsScale) {
   EXPECT_GE(area, deformed * (1 - 0.02));
 }
 
+// A moving wall: each lumen dilated about its own axis by e(t) = 0.04 sin(2 pi t / T), so that
+// at peak systole (T / 4) its section is the end-diastolic one (t = 0, e = 0) scaled by 1.04.
+// The displacement is linear about each axis, so the P1 section scales exactly: the areas'
+// ratio is 1.04^2 to rounding. And a view asked for by direction replaces the standard ones.
+TEST(FlowPictures, FlapAtPeakSystoleOverEndDiastoleAndViewsAskedFor) {
+  RunFolder f("flow-pictures-flap", [](testing::SyntheticRun& run) {
+    run.dilation = [](double t) { return 0.04 * std::sin(2 * M_PI * t / 0.8); };
+  });
+  const auto out = f.dir / "figures";
+  const testing::Result r = testing::run_tearflow(
+      fmt::format("pictures {} --view posterior:0,1,0 -o {}", f.dir.string(), out.string()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json record = testing::read_json(out / "pictures.json");
+  const nlohmann::json& peak = record["frames"][0];
+  EXPECT_NEAR(peak["time_s"].get<double>(), 0.2, 1e-12);
+  const nlohmann::json& flap = peak["flap_position"];
+  EXPECT_NEAR(flap["end_diastole_time_s"].get<double>(), 0.0, 1e-12);
+  for (const char* lumen : {"TL1", "FL1"}) {
+    const nlohmann::json& a = flap["stations"]["station1"][lumen];
+    EXPECT_NEAR(a["area_m2"].get<double>() / a["area_end_diastole_m2"].get<double>(), 1.04 * 1.04,
+                1e-9)
+        << lumen;
+  }
+  EXPECT_GT(testing::drawn_fraction(out / "peak-systole" / "flap_station1.png"), 0.003);
+  std::vector<std::string> files;
+  for (const nlohmann::json& p : peak["pictures"])
+    files.push_back(p["file"]);
+  EXPECT_NE(std::find(files.begin(), files.end(), "flap_station1.png"), files.end());
+  EXPECT_NE(std::find(files.begin(), files.end(), "streamlines_posterior.png"), files.end());
+  EXPECT_EQ(std::find(files.begin(), files.end(), "streamlines_anterior.png"), files.end());
+}
+
 TEST(FlowPictures, BadInputIsAClearError) {
   const RunFolder f("flow-pictures-bad");
   const std::string run = f.dir.string();
@@ -318,7 +350,9 @@ TEST(FlowPictures, BadInputIsAClearError) {
       {fmt::format("pictures {} --seed AAx --no-png", run), "AAx"},
       {fmt::format("pictures {} --time 5 --no-png", run), "--time 5"},
       {fmt::format("pictures {} --model /nonexistent/model --no-png", run),
-       "/nonexistent/model/landmarks.json"}};
+       "/nonexistent/model/landmarks.json"},
+      {fmt::format("pictures {} --view superior --no-png", run), "--view superior"},
+      {fmt::format("pictures {} --view up:0,0,0 --no-png", run), "NAME:X,Y,Z"}};
   for (const Case& c : cases) {
     const testing::Result r = testing::run_tearflow(c.args);
     EXPECT_NE(r.code, 0) << c.args;

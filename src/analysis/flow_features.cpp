@@ -51,16 +51,6 @@ std::pair<Vec3, Vec3> plane_basis(const Vec3& n) {
   return {e1, cross(n, e1)};
 }
 
-/// Area [m^2] and int u.n dA [m^3/s] of a section carrying `through_plane_velocity`.
-std::pair<double, double> area_and_flow(vtkPolyData* section) {
-  auto sums = vtkSmartPointer<vtkIntegrateAttributes>::New();
-  sums->SetInputData(section);
-  sums->Update();
-  vtkUnstructuredGrid* out = sums->GetOutput();
-  return {out->GetCellData()->GetArray("Area")->GetTuple1(0),
-          out->GetPointData()->GetArray(kThroughPlaneArray)->GetTuple1(0)};
-}
-
 /// The points of a regular grid of spacing h on the landmark's plane, anchored at its lumen
 /// point, that lie inside `section` (its polygons).
 vtkSmartPointer<vtkPoints> grid_in_section(vtkPolyData* section, const geometry::Landmark& l,
@@ -175,6 +165,15 @@ FlowSeries reference_flow(const std::filesystem::path& run_dir,
 }
 
 } // namespace
+
+std::pair<double, double> area_and_flow(vtkPolyData* section) {
+  auto sums = vtkSmartPointer<vtkIntegrateAttributes>::New();
+  sums->SetInputData(section);
+  sums->Update();
+  vtkUnstructuredGrid* out = sums->GetOutput();
+  return {out->GetCellData()->GetArray("Area")->GetTuple1(0),
+          out->GetPointData()->GetArray(kThroughPlaneArray)->GetTuple1(0)};
+}
 
 CycleFrames cycle_frames(const std::filesystem::path& run_dir,
                          const geometry::Landmarks& landmarks) {

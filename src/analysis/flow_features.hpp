@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <vtkSmartPointer.h>
@@ -64,6 +65,10 @@ struct CycleEvents {
   std::optional<std::size_t> mid_diastole;
 };
 CycleEvents cycle_events(const std::vector<double>& time, const std::vector<double>& flow);
+
+/// Area [m^2] and int u.n dA [m^3/s] of a section carrying `through_plane_velocity`
+/// (lumen_section's).
+std::pair<double, double> area_and_flow(vtkPolyData* section);
 
 /// The saved frame nearest `time` [s]; InputError naming flow.pvd and the saved range when
 /// `time` lies outside it (by more than half the largest gap between frames).

@@ -90,9 +90,17 @@ vtkNew<vtkScalarBarActor> scalar_bar(vtkLookupTable* table, const ColourScale& s
   return bar;
 }
 
+/// The caption at the picture's foot, a line per "; "-separated part (the map's part of a
+/// plane picture is 574 pixels wide: one line would be cut).
 vtkNew<vtkTextActor> caption_actor(const std::string& caption) {
+  std::string lines;
+  for (std::size_t i = 0; i < caption.size(); ++i)
+    if (caption.compare(i, 2, "; ") == 0)
+      lines += '\n', ++i;
+    else
+      lines += caption[i];
   vtkNew<vtkTextActor> text;
-  text->SetInput(caption.c_str());
+  text->SetInput(lines.c_str());
   text->GetTextProperty()->SetColor(0, 0, 0);
   text->GetTextProperty()->SetFontSize(18);
   text->SetPosition(12, 12);
@@ -135,15 +143,47 @@ Picture write_png(vtkRenderer* renderer, vtkScalarBarActor* bar, const PictureSi
   vtkNew<vtkRenderer> legend;
   legend->SetViewport(kModelWidth, 0.0, 1.0, 1.0);
   legend->SetBackground(1, 1, 1);
-  legend->AddActor2D(bar);
+  if (bar != nullptr)
+    legend->AddActor2D(bar);
   vtkNew<vtkRenderWindow> window;
   window->AddRenderer(renderer);
   window->AddRenderer(legend);
   window->SetSize(size.width, size.height);
   render_to_png(window, png, fmt::format("render '{}'", png.string()));
-  const double* range = bar->GetLookupTable()->GetRange();
   const int* model = renderer->GetSize();
+  if (bar == nullptr) // a picture of lines only: no colour scale
+    return {png, "", 0.0, 0.0, model[0], model[1], std::nullopt};
+  const double* range = bar->GetLookupTable()->GetRange();
   return {png, bar->GetTitle(), range[0], range[1], model[0], model[1], std::nullopt};
+}
+
+/// The rim of a section (its boundary edges) as a line actor.
+vtkNew<vtkActor> rim_actor(vtkPolyData* section, const std::array<double, 3>& rgb, double width) {
+  vtkNew<vtkFeatureEdges> rim;
+  rim->SetInputData(section);
+  rim->BoundaryEdgesOn();
+  rim->FeatureEdgesOff();
+  rim->NonManifoldEdgesOff();
+  rim->ManifoldEdgesOff();
+  rim->ColoringOff();
+  rim->Update();
+  auto outline = plain_actor(rim->GetOutput(), rgb, 1.0);
+  outline->GetProperty()->SetLineWidth(width);
+  return outline;
+}
+
+/// Points the renderer's camera as `view` says (parallel projection).
+void look_at_plane(vtkRenderer* renderer, const PlaneView& view) {
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->ParallelProjectionOn();
+  const Vec3& c = view.centre;
+  const double distance = 10 * view.half_height; // any: the projection is parallel
+  camera->SetFocalPoint(c[0], c[1], c[2]);
+  camera->SetPosition(c[0] + distance * view.from[0], c[1] + distance * view.from[1],
+                      c[2] + distance * view.from[2]);
+  camera->SetViewUp(view.up[0], view.up[1], view.up[2]);
+  camera->SetParallelScale(view.half_height);
+  renderer->ResetCameraClippingRange();
 }
 
 vtkNew<vtkRenderer> white_renderer() {
@@ -226,20 +266,7 @@ Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
     auto section = coloured_actor(m->section, analysis::kThroughPlaneArray, table, through_plane);
     section->GetProperty()->LightingOff(); // a map: the table's colours, unshaded
     renderer->AddActor(section);
-    vtkNew<vtkFeatureEdges> rim;
-    rim->SetInputData(m->section);
-    rim->BoundaryEdgesOn();
-    rim->FeatureEdgesOff();
-    rim->NonManifoldEdgesOff();
-    rim->ManifoldEdgesOff();
-    rim->ColoringOff();
-    rim->Update();
-    const std::array<double, 3> rgb = m->landmark.lumen == "TL"   ? std::array{0.0, 0.2, 0.9}
-                                      : m->landmark.lumen == "FL" ? std::array{0.85, 0.0, 0.0}
-                                                                  : std::array{0.0, 0.0, 0.0};
-    auto outline = plain_actor(rim->GetOutput(), rgb, 1.0);
-    outline->GetProperty()->SetLineWidth(3.0);
-    renderer->AddActor(outline);
+    renderer->AddActor(rim_actor(m->section, lumen_colour(m->landmark.lumen), 3.0));
     if (m->vectors->GetNumberOfPoints() == 0)
       continue;
     vtkNew<vtkArrowSource> arrow;
@@ -257,17 +284,29 @@ Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
   }
   auto bar = scalar_bar(table, through_plane);
   renderer->AddActor2D(caption_actor(caption));
-  vtkCamera* camera = renderer->GetActiveCamera();
-  camera->ParallelProjectionOn();
-  const Vec3& c = view.centre;
-  const double distance = 10 * view.half_height; // any: the projection is parallel
-  camera->SetFocalPoint(c[0], c[1], c[2]);
-  camera->SetPosition(c[0] + distance * view.from[0], c[1] + distance * view.from[1],
-                      c[2] + distance * view.from[2]);
-  camera->SetViewUp(view.up[0], view.up[1], view.up[2]);
-  camera->SetParallelScale(view.half_height);
-  renderer->ResetCameraClippingRange();
+  look_at_plane(renderer, view);
   Picture p = write_png(renderer, bar, size, png);
+  p.plane = view;
+  return p;
+}
+
+std::array<double, 3> lumen_colour(const std::string& lumen, bool light) {
+  if (lumen == "TL")
+    return light ? std::array{0.55, 0.65, 1.0} : std::array{0.0, 0.2, 0.9};
+  if (lumen == "FL")
+    return light ? std::array{1.0, 0.6, 0.6} : std::array{0.85, 0.0, 0.0};
+  return light ? std::array{0.6, 0.6, 0.6} : std::array{0.0, 0.0, 0.0};
+}
+
+Picture render_outlines(const std::vector<Outline>& outlines, const std::string& caption,
+                        const std::filesystem::path& png, const PlaneView& view,
+                        const PictureSize& size) {
+  auto renderer = white_renderer();
+  for (const Outline& o : outlines)
+    renderer->AddActor(rim_actor(o.section, o.rgb, o.width));
+  renderer->AddActor2D(caption_actor(caption));
+  look_at_plane(renderer, view);
+  Picture p = write_png(renderer, nullptr, size, png);
   p.plane = view;
   return p;
 }

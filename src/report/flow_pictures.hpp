@@ -6,6 +6,7 @@
 // compare) and stated on the picture's scalar bar with its unit. Renders through VTK's
 // OpenGL2 window, off-screen, on this process's X display (core/virtual_display.hpp starts
 // one when there is none).
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -93,6 +94,23 @@ Picture render_plane_map(const std::vector<const analysis::PlaneMap*>& maps,
                          const std::string& caption, const std::filesystem::path& png,
                          const PictureSize& size = kPlaneMapSize,
                          const std::optional<PlaneView>& view = std::nullopt);
+
+/// A lumen's colour in the plane pictures: true lumen blue, false red, else black; `light`
+/// the paler tone of a second instant.
+std::array<double, 3> lumen_colour(const std::string& lumen, bool light = false);
+
+/// A section's rim drawn in a flap picture.
+struct Outline {
+  vtkPolyData* section = nullptr;
+  std::array<double, 3> rgb{};
+  double width = 2.0; ///< [pixels]
+};
+
+/// The rims of sections on one plane seen as `view` says, with a caption and no colour scale:
+/// the flap's position at two instants.
+Picture render_outlines(const std::vector<Outline>& outlines, const std::string& caption,
+                        const std::filesystem::path& png, const PlaneView& view,
+                        const PictureSize& size = kPlaneMapSize);
 
 /// The through-plane velocity's colour table (blue - white - red over `scale`), for a reader
 /// of the pictures that turns colours back into values.

@@ -1,6 +1,8 @@
 #include "report/pictures_command.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
 
@@ -69,6 +71,49 @@ const geometry::Landmark& seed_landmark(const geometry::Landmarks& landmarks,
 /// arrow of 1.5 grid steps) are scaled on a quarter of the speed scale, stated on the picture.
 double in_plane_arrow_speed(const PicturesOptions& o) {
   return o.speed_max / 4;
+}
+
+/// The views asked for (`--view`): standard ones by name, or NAME:X,Y,Z a camera from the
+/// direction (X, Y, Z) (model axes; up the head's direction, +z, as far as it is not the
+/// viewing one); none asked: the standard ones.
+std::vector<View> chosen_views(const std::vector<View>& standard,
+                               const std::vector<std::string>& asked) {
+  if (asked.empty())
+    return standard;
+  std::vector<View> views;
+  for (const std::string& spec : asked) {
+    const std::size_t colon = spec.find(':');
+    if (colon == std::string::npos) {
+      const auto v = std::find_if(standard.begin(), standard.end(),
+                                  [&](const View& x) { return x.name == spec; });
+      if (v == standard.end()) {
+        std::string known;
+        for (const View& x : standard)
+          known += " " + x.name;
+        input_error("pictures: --view {}: no such view; the standard ones here are:{} (or "
+                    "NAME:X,Y,Z for a camera from the direction X, Y, Z)",
+                    spec, known);
+      }
+      views.push_back(*v);
+      continue;
+    }
+    Vec3 from{};
+    char end = 0;
+    const std::string name = spec.substr(0, colon);
+    if (name.empty() || name.find_first_of("/\\ ") != std::string::npos ||
+        std::sscanf(spec.c_str() + colon + 1, "%lf,%lf,%lf%c", &from[0], &from[1], &from[2],
+                    &end) != 3 ||
+        !(dot(from, from) > 0) || !std::isfinite(dot(from, from)))
+      input_error("pictures: --view {}: expected NAME:X,Y,Z (a file-name-safe name, and a "
+                  "non-zero direction from the model toward the camera, e.g. posterior:0,1,0)",
+                  spec);
+    from = (1.0 / std::sqrt(dot(from, from))) * from;
+    Vec3 up = Vec3{0, 0, 1} - from[2] * from;
+    if (dot(up, up) < 1e-6)
+      up = Vec3{0, 1, 0} - from[1] * from;
+    views.push_back({name, from, (1.0 / std::sqrt(dot(up, up))) * up});
+  }
+  return views;
 }
 
 /// A picture's entry in pictures.json: its file and the scale its scalar bar shows.
@@ -161,6 +206,41 @@ json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks
                                      g.name, arrow_speed),
                          dir / (prefix + "plane_" + g.name + ".png"), kPlaneMapSize, g.view);
     pictures.push_back(picture_json(p));
+  }
+  return out;
+}
+
+/// A moving wall's flap at each paired station: the TLk and FLk sections' rims at the frame
+/// pictured (`fluid`, peak systole) over those at end diastole (the cycle's first frame, as
+/// `analyze` takes it), thick over thin, in the plane maps' views: flap_station<k>.png.
+json flap_position(vtkUnstructuredGrid* fluid, const analysis::PictureFrame& f,
+                   const analysis::FlowFrame& end_diastole, const geometry::Landmarks& landmarks,
+                   const std::vector<PlaneGroup>& groups, const fs::path& dir, json& pictures) {
+  const auto before = analysis::read_flow_frame(end_diastole.file);
+  json out = {{"end_diastole_time_s", end_diastole.time}, {"stations", json::object()}};
+  for (const PlaneGroup& g : groups) {
+    if (g.landmarks.size() < 2 || !g.view) // a paired station, drawn in the plane maps
+      continue;
+    std::vector<vtkSmartPointer<vtkPolyData>> sections; // kept alive for the outlines
+    std::vector<Outline> outlines;
+    json station = json::object();
+    for (const std::string& name : g.landmarks) {
+      const geometry::Landmark& l = landmarks.plane(name);
+      const auto late = analysis::lumen_section(before, l, end_diastole.file.string());
+      const auto now = analysis::lumen_section(fluid, l, f.frame.file.string());
+      sections.insert(sections.end(), {late, now});
+      outlines.push_back({late, lumen_colour(l.lumen, true), 2.0});
+      outlines.push_back({now, lumen_colour(l.lumen), 3.0});
+      station[name] = {{"area_m2", analysis::area_and_flow(now).first},
+                       {"area_end_diastole_m2", analysis::area_and_flow(late).first}};
+    }
+    const Picture p = render_outlines(
+        outlines,
+        fmt::format("{}, the flap; thick: {} (t = {} s); thin: end diastole (t = {} s)", g.name,
+                    f.event, f.frame.time, end_diastole.time),
+        dir / ("flap_" + g.name + ".png"), *g.view);
+    pictures.push_back(picture_json(p));
+    out["stations"][g.name] = station;
   }
   return out;
 }
@@ -320,7 +400,7 @@ int make_pictures(const PicturesOptions& o) {
     if (cycle->mid_diastole)
       frames.push_back(*cycle->mid_diastole);
   }
-  const std::vector<View> views = standard_views(landmarks);
+  const std::vector<View> views = chosen_views(standard_views(landmarks), o.views);
   json record = {{"run", o.run_dir},
                  {"landmarks", landmarks_file.string()},
                  {"seed_landmark", seed.name},
@@ -387,6 +467,11 @@ int make_pictures(const PicturesOptions& o) {
     entry["planes"] = plane_maps(fluid, landmarks, f.frame.file.string(),
                                  fmt::format("{} (t = {} s), ", f.event, f.frame.time), o, dir, "",
                                  false, groups, spacing, pictures);
+    // A moving wall's flap against end diastole (its first frame is end diastole itself).
+    if (i == 0 && o.png && cycle && fluid->GetPointData()->GetArray("displacement") != nullptr &&
+        cycle->frames.front().file != f.frame.file)
+      entry["flap_position"] =
+          flap_position(fluid, f, cycle->frames.front(), landmarks, groups, dir, pictures);
     entry["pictures"] = pictures;
     if (i == 0) { // the first frame in ParaView, beside the pictures
       io::write_file_atomically(out / kParaviewState,
@@ -442,6 +527,10 @@ PicturesCommand::PicturesCommand(CLI::App& app) {
   command_->add_flag("--no-png", no_png_, "the VTP files and pictures.json only, no rendering");
   command_->add_flag("--animate", options_.animate,
                      "also the streamlines of every frame of the cycle as an animated PNG");
+  command_->add_option("--view", options_.views,
+                       "a view of the streamline and wall pictures (repeatable): anterior, "
+                       "left-lateral, flap, or NAME:X,Y,Z, a camera from the direction X,Y,Z "
+                       "(default: the standard ones)");
   command_->add_option("--mri", options_.scan.scan,
                        "a 4D-flow scan (DICOM folder or volume folder, as `mri flow` reads it): "
                        "the same streamlines and plane maps from it, beside the run's");

@@ -10,6 +10,7 @@
 // same streamlines (same seeds and cameras) and plane maps (same views) from a 4D-flow scan,
 // files prefixed "mri_" beside the run's.
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -27,6 +28,9 @@ struct PicturesOptions {
   /// Also the streamlines of every frame of the cycle as one animated PNG (first view with
   /// the tears face on, else anterior).
   bool animate = false;
+  /// The views of the streamlines and the wall (chosen_views: standard names or NAME:X,Y,Z);
+  /// empty: the standard ones.
+  std::vector<std::string> views;
   /// A 4D-flow scan pictured beside the run (report/scan_pictures.hpp); scan.scan empty: none.
   ScanOptions scan;
 };
