@@ -253,13 +253,18 @@ TEST(ScanPictures, PlaneMapsAgreeWithTheRunWithinNoiseAndPartialVolume) {
   const ScannedRun& s = scanned_run();
   const auto out = report::flow_pictures_dir(s.dir / "run"); // where the report looks
   const testing::Result r = testing::run_tearflow(
-      fmt::format("pictures {} --mri {} --speed-max {}", (s.dir / "run").string(),
-                  (s.dir / "scan").string(), kSpeedMax));
+      fmt::format("pictures {} --mri {} --mri-venc {} --speed-max {}", (s.dir / "run").string(),
+                  (s.dir / "scan").string(), kVenc, kSpeedMax));
   ASSERT_EQ(r.code, 0) << r.output;
   const nlohmann::json record = testing::read_json(out / "pictures.json");
   // The scan's peak systole is its frame 2 (t = T / 4, a = 1.5), found from its own flow.
   ASSERT_TRUE(record.contains("scan")) << record.dump(2);
   EXPECT_EQ(record["scan"]["peak_systole_frame"], 2);
+  // The .mha volumes carry no venc: --mri-venc supplies it, and the scan is unwrapped as `mri
+  // flow --venc` unwraps it (the scan has no wraps: venc 1 m/s above its 0.9 m/s peak).
+  EXPECT_EQ(record["scan"]["corrections"]["grid"]["venc_m_per_s"], kVenc);
+  EXPECT_TRUE(record["scan"]["corrections"]["unwrap"].is_object())
+      << record["scan"]["corrections"]["unwrap"];
   const nlohmann::json& frame = record["frames"][0];
   EXPECT_EQ(frame["event"], "peak systole");
   EXPECT_EQ(frame["scan"]["frame"], 2);

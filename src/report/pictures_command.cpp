@@ -537,6 +537,11 @@ PicturesCommand::PicturesCommand(CLI::App& app) {
   command_->add_option("--mri-align", options_.scan.align,
                        "paired model / MRI points (JSON) placing the scan (default: the scan is "
                        "in the model's coordinates)");
+  command_
+      ->add_option("--mri-venc", options_.scan.venc,
+                   "the scan's velocity encoding [m/s], overriding (or supplying) the files' "
+                   "(needed for the temporal unwrapping when they have none)")
+      ->check(CLI::PositiveNumber);
   command_->add_flag("--mri-align-surface", options_.scan.align_surface,
                      "place the scan by fitting its lumen surface to the run's mesh (ICP, "
                      "started from --mri-align when given)");

@@ -35,7 +35,9 @@ ScanPictures::ScanPictures(const ScanOptions& o, const std::filesystem::path& ru
   if (!(o.lumen_fraction > 0 && o.lumen_fraction < 1))
     input_error("pictures: --mri-lumen-fraction must lie in (0, 1) (got {})", o.lumen_fraction);
   nlohmann::json corrections;
-  data_ = mri::read_corrected(o.scan, {}, corrections);
+  mri::CorrectionChoice choice; // as `mri flow` corrects by default
+  choice.venc = o.venc;
+  data_ = mri::read_corrected(o.scan, choice, corrections);
   data_.require(mri::Encoding::velocity_3d, fmt::format("pictures: --mri '{}'", o.scan));
   record_ = {{"scan", o.scan}, {"corrections", corrections}};
   if (!o.align.empty())

@@ -29,6 +29,7 @@ struct ScanOptions {
   /// from `align` when given; neither: the scan is in the model's coordinates already.
   bool align_surface = false;
   double lumen_fraction = 0.6; ///< lumen: time-mean magnitude >= this x its 99th percentile
+  double venc = 0.0;           ///< [m/s]; > 0 overrides (or supplies) the files' velocity encoding
 };
 
 class ScanPictures {
