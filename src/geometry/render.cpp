@@ -83,15 +83,16 @@ vtkNew<vtkActor> disk_actor(const Vec3& centre, const Vec3& normal, double radiu
   return actor;
 }
 
-// Interface triangles on a tear's rim: within the flap's thickness of its mid-plane and
-// within 1.1 semi-axes of its centre.
+// Interface triangles on a tear's rim: within 1.1 semi-axes of its centre and within half the
+// across semi-axis of the flap's mid-plane (the rim spans the flap's 2 mm: a 62 mm^2 tear's
+// across semi-axis is about 3 mm, so a third of it missed the rim's outer half).
 bool on_tear(const mesh::Mesh& m, const Tri& t, const TearLandmark& tear) {
   Vec3 c{0, 0, 0};
   for (Index n : t)
     c = c + (1.0 / 3.0) * m.points[n];
   const Vec3 d = c - tear.centroid, across = cross(tear.normal, tear.axis);
   const double u = dot(d, tear.axis) / tear.axial, w = dot(d, across) / tear.across;
-  return std::abs(dot(d, tear.normal)) < 0.3 * tear.across && u * u + w * w < 1.21;
+  return std::abs(dot(d, tear.normal)) < 0.5 * tear.across && u * u + w * w < 1.21;
 }
 
 /// A name written at a model point (mm), facing the camera, in `rgb`, above and right of it.

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "analysis/flow_features.hpp"
+#include "report/report.hpp"
 
 namespace tearflow::report {
 
@@ -21,30 +22,6 @@ constexpr double kViewAngle = 30.0;
 
 Vec3 unit(const Vec3& v) {
   return (1.0 / std::sqrt(dot(v, v))) * v;
-}
-
-/// Text for an XML attribute value (file and landmark names may hold any character).
-std::string attribute(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-    case '&':
-      out += "&amp;";
-      break;
-    case '<':
-      out += "&lt;";
-      break;
-    case '>':
-      out += "&gt;";
-      break;
-    case '"':
-      out += "&quot;";
-      break;
-    default:
-      out += c;
-    }
-  }
-  return out;
 }
 
 /// One property of a proxy: values (`elements`), or other proxies of the state (`proxies`),
@@ -98,7 +75,7 @@ public:
                       p.name, id, p.name, n);
       for (std::size_t i = 0; i < p.elements.size(); ++i)
         proxies_ += fmt::format("        <Element index=\"{}\" value=\"{}\"/>\n", i,
-                                attribute(p.elements[i]));
+                                escape_html(p.elements[i]));
       for (const int other : p.proxies)
         proxies_ += p.input
                         ? fmt::format("        <Proxy value=\"{}\" output_port=\"0\"/>\n", other)
@@ -139,7 +116,7 @@ public:
     for (const auto& [collection, items] : collections_) {
       out += fmt::format("    <ProxyCollection name=\"{}\">\n", collection);
       for (const auto& [id, name] : items)
-        out += fmt::format("      <Item id=\"{}\" name=\"{}\"/>\n", id, attribute(name));
+        out += fmt::format("      <Item id=\"{}\" name=\"{}\"/>\n", id, escape_html(name));
       out += "    </ProxyCollection>\n";
     }
     return out + "  </ServerManagerState>\n</ParaView>\n";

@@ -12,7 +12,8 @@
 
 namespace tearflow::report {
 
-/// `s` with <, > and & as HTML entities, for text and attribute values in a page.
+/// `s` with <, >, &, " and ' as entities, for text and attribute values (either quote) in an
+/// HTML page or an XML file.
 std::string escape_html(const std::string& s);
 
 /// One analysed run as the page sees it: {name, metrics, series: {landmark: {column: [...]}}}.
