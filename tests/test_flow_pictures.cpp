@@ -230,6 +230,14 @@ TEST(FlowPictures, CommandRendersNonEmptyPicturesOnTheStatedScale) {
   EXPECT_EQ(count(two, "src='data:image/png;base64,"), peak["pictures"].size() + 1);
   EXPECT_NE(two.find("EN: no pictures"), std::string::npos);
   EXPECT_TRUE(report::flow_patterns_section({f.dir / "no-such-run"}, {"EN"}).empty());
+  // A picture listed but gone is said on the page, not skipped.
+  const auto gone = out / "peak-systole" / "streamlines_left-lateral.png";
+  const std::string kept = gone.string() + ".kept";
+  std::filesystem::rename(gone, kept);
+  const std::string without = report::flow_patterns_section({f.dir}, {"OR"});
+  std::filesystem::rename(kept, gone);
+  EXPECT_EQ(count(without, "src='data:image/png;base64,"), peak["pictures"].size());
+  EXPECT_NE(without.find("missing: '" + gone.string() + "'"), std::string::npos);
   // This run has no mesh beside its landmarks: no model picture, and the record says why.
   EXPECT_TRUE(record["model"]["file"].is_null());
   EXPECT_NE(record["model"]["why"].get<std::string>().find("mesh.msh"), std::string::npos);

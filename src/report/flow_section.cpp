@@ -123,6 +123,9 @@ std::string flow_patterns_section(const std::vector<std::filesystem::path>& run_
         if (!bytes.empty())
           html += "<img class='flow-picture' style='width:100%;max-width:560px' alt='" +
                   escape_html(name) + "' src='data:image/png;base64," + base64(bytes) + "'>";
+        else // listed in pictures.json but gone or empty: said on the page, not skipped
+          html += "<p class='missing-picture'>missing: '" +
+                  escape_html((c.folder / name).string()) + "' (run `tearflow pictures` again)</p>";
       }
       html += "</td>";
     }
