@@ -9,9 +9,9 @@ image's size, the stages' times as the command prints them (fields, caps and lan
 meshing), the whole command's wall time and peak memory (GNU time), the mesh's tet counts and
 the tears as found. One process at a time: run it on a quiet machine.
 """
-import argparse, json, os, re, subprocess, tempfile
+import argparse, json, os, re, subprocess
 
-from timing import BIN, ROOT, timed
+from timing import BIN, or_model, timed, work_dir
 
 
 def main():
@@ -20,11 +20,8 @@ def main():
     ap.add_argument("--element-size", default="3")
     ap.add_argument("--keep")
     a = ap.parse_args()
-    tmp = a.keep or tempfile.mkdtemp(prefix="tearflow-bench-labels-")
-    os.makedirs(tmp, exist_ok=True)
-    model = os.path.join(tmp, "or")
-    if not os.path.exists(os.path.join(model, "mesh.msh")):
-        subprocess.run([BIN, "geometry", "tbad", "-o", model], check=True, stdout=subprocess.DEVNULL)
+    tmp = work_dir(a.keep, "labels")
+    model = or_model(tmp)
     out = {"element_size_mm": float(a.element_size), "runs": []}
     for s in a.spacing.split(","):
         scan = os.path.join(tmp, f"or_{s}mm.nii.gz")

@@ -10,9 +10,9 @@ saved frame's streamlines too), with their peak memory (GNU time), the mesh's si
 pictures' counts from pictures.json. Renders through its own virtual X server when DISPLAY is
 unset. One process at a time: run it on a quiet machine.
 """
-import argparse, json, os, re, subprocess, tempfile
+import argparse, json, os, re, subprocess
 
-from timing import BIN, ROOT, timed
+from timing import BIN, ROOT, or_model, timed, work_dir
 
 
 def main():
@@ -22,12 +22,8 @@ def main():
     ap.add_argument("--every", type=int, default=2)
     ap.add_argument("--keep")
     a = ap.parse_args()
-    tmp = a.keep or tempfile.mkdtemp(prefix="tearflow-bench-pictures-")
-    os.makedirs(tmp, exist_ok=True)
-    model = os.path.join(tmp, "or")
-    if not os.path.exists(os.path.join(model, "mesh.msh")):
-        subprocess.run([BIN, "geometry", "tbad", "--element-size", a.element_size, "-o", model],
-                       check=True, stdout=subprocess.DEVNULL)
+    tmp = work_dir(a.keep, "pictures")
+    model = or_model(tmp, a.element_size)
     case = open(os.path.join(ROOT, "examples", "tbad-rigid", "case.yaml")).read()
     case = case.replace("file: geometry/mesh.msh", "file: " + os.path.join(model, "mesh.msh"))
     case = re.sub(r"time: \{step: 0.005, cycles: 2,", "time: {step: 0.005, steps: %d," % a.steps,

@@ -11,10 +11,10 @@ model's own time for all variants (as the command prints it), the command's wall
 time and peak memory (GNU time), and the cycles to periodicity. One process at a time (the
 sweep runs on one core): run it on a quiet machine.
 """
-import argparse, csv, json, os, re, subprocess, tempfile, time
+import argparse, csv, json, os, re, subprocess, time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BIN = os.path.join(ROOT, "build", "tearflow")
+from timing import BIN, ROOT, or_model, work_dir
+
 DATA = os.path.join(ROOT, "tests", "data", "rom")
 
 
@@ -30,12 +30,8 @@ def main():
     ap.add_argument("--steps", type=int, default=20)
     ap.add_argument("--keep")
     a = ap.parse_args()
-    tmp = a.keep or tempfile.mkdtemp(prefix="tearflow-bench-rom-")
-    os.makedirs(tmp, exist_ok=True)
-    model = os.path.join(tmp, "or")
-    if not os.path.exists(os.path.join(model, "mesh.msh")):
-        subprocess.run([BIN, "geometry", "tbad", "--element-size", "4.5", "-o", model],
-                       check=True, stdout=subprocess.DEVNULL)
+    tmp = work_dir(a.keep, "rom")
+    model = or_model(tmp, 4.5)
     rigid = case("OR-rigid", model, tmp)
     subprocess.run([BIN, "rom", "calibrate", model, "--run", os.path.join(DATA, "OR-rigid"),
                     "--case", rigid], check=True, stdout=subprocess.DEVNULL)
