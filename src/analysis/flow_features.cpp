@@ -234,6 +234,10 @@ vtkSmartPointer<vtkPolyData> seed_points(vtkUnstructuredGrid* fluid, const geome
                        : equivalent_diameter(area_and_flow(section).first) / 10.0;
   auto seeds = vtkSmartPointer<vtkPolyData>::New();
   seeds->SetPoints(grid_in_section(section, seed, h));
+  if (seeds->GetNumberOfPoints() == 0)
+    input_error("{}: no streamline seed lies in the lumen section of landmark '{}' (seed "
+                "spacing too coarse for the section?)",
+                frame, seed.name);
   return seeds;
 }
 
@@ -241,12 +245,7 @@ vtkSmartPointer<vtkPolyData> trace_streamlines(vtkUnstructuredGrid* fluid,
                                                const geometry::Landmark& seed,
                                                const StreamlineOptions& options,
                                                const std::string& frame) {
-  const vtkSmartPointer<vtkPolyData> seeds = seed_points(fluid, seed, options, frame);
-  if (seeds->GetNumberOfPoints() == 0)
-    input_error("{}: no streamline seed lies in the lumen section of landmark '{}' (seed "
-                "spacing too coarse for the section?)",
-                frame, seed.name);
-  return trace_streamlines(fluid, seeds, options);
+  return trace_streamlines(fluid, seed_points(fluid, seed, options, frame), options);
 }
 
 vtkSmartPointer<vtkPolyData> trace_streamlines(vtkUnstructuredGrid* fluid, vtkPolyData* seeds,

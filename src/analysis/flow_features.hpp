@@ -86,14 +86,14 @@ struct StreamlineOptions {
 inline constexpr double kTerminalSpeed = 1e-4;
 
 /// The seed points: the regular grid (spacing as above, aligned with the landmark's point)
-/// on `seed`'s plane inside its lumen section.
+/// on `seed`'s plane inside its lumen section. InputError naming `frame` when none lies in it.
 vtkSmartPointer<vtkPolyData> seed_points(vtkUnstructuredGrid* fluid, const geometry::Landmark& seed,
                                          const StreamlineOptions& options,
                                          const std::string& frame);
 
 /// Streamlines from seed_points through `fluid` (point field `velocity`), both ways: polylines
 /// with point arrays `velocity` and `speed` [m/s] and `IntegrationTime` [s], cell array
-/// `SeedIds`. InputError naming `frame` when no seed lies in the lumen.
+/// `SeedIds`. InputError naming `frame` when no seed lies in the lumen (seed_points').
 vtkSmartPointer<vtkPolyData> trace_streamlines(vtkUnstructuredGrid* fluid,
                                                const geometry::Landmark& seed,
                                                const StreamlineOptions& options,

@@ -431,13 +431,15 @@ int make_pictures(const PicturesOptions& o) {
                   {"time_s", f.frame.time},
                   {"frame", f.frame.file.string()},
                   {"folder", folder_of(f)}};
-    const auto lumen = boundary_surface(fluid);
+    // The box the streamline cameras frame (the run's, and the scan's beside it).
+    double bounds[6];
+    fluid->GetBounds(bounds);
     vtkSmartPointer<vtkPolyData> seeds;
     if (i == 0) { // streamlines and the wall at the first frame (peak systole, or the asked)
       analysis::StreamlineOptions so;
       so.seed_spacing = o.seed_spacing;
       seeds = analysis::seed_points(fluid, seed, so, f.frame.file.string());
-      const auto lines = analysis::trace_streamlines(fluid, seed, so, f.frame.file.string());
+      const auto lines = analysis::trace_streamlines(fluid, seeds, so);
       analysis::write_vtp(lines, dir / "streamlines.vtp");
       entry["streamlines"] = {{"file", "streamlines.vtp"},
                               {"seed_landmark", seed.name},
@@ -446,9 +448,9 @@ int make_pictures(const PicturesOptions& o) {
       if (o.png) {
         const std::string caption =
             fmt::format("streamlines from {}, {} (t = {} s)", seed.name, f.event, f.frame.time);
-        for (const Picture& p :
-             render_streamlines(lines, lumen, views, {"speed [m/s]", 0.0, o.speed_max}, caption,
-                                dir, "streamlines", {}, lumen->GetBounds()))
+        for (const Picture& p : render_streamlines(lines, boundary_surface(fluid), views,
+                                                   {"speed [m/s]", 0.0, o.speed_max}, caption, dir,
+                                                   "streamlines", {}, bounds))
           pictures.push_back(picture_json(p));
       }
       // (read only for a picture: the wall has no VTP of its own)
@@ -479,8 +481,8 @@ int make_pictures(const PicturesOptions& o) {
       record["paraview_state"] = kParaviewState;
     }
     if (scan)
-      entry["scan"] = scan_frame(*scan, f.event, seeds, lumen->GetBounds(), landmarks, views, o,
-                                 dir, groups, spacing);
+      entry["scan"] =
+          scan_frame(*scan, f.event, seeds, bounds, landmarks, views, o, dir, groups, spacing);
     record["frames"].push_back(entry);
     if (!o.quiet)
       fmt::print("{} (t = {} s): {} pictures in '{}'\n", f.event, f.frame.time, pictures.size(),
