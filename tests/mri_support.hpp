@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 
 #include "geometry/landmarks.hpp"
+#include "mri/alignment.hpp"
 #include "mri/plane_flow.hpp"
 #include "mri/synthetic.hpp"
 
@@ -71,6 +72,22 @@ inline double worst_flow_error(const mri::PipeScan& scan, const mri::Flow4D& dat
     worst = std::max(worst, std::abs(planes[0].flow[k] - exact) / exact);
   }
   return worst;
+}
+
+/// `data` in a patient frame moved by `t` (x_mri = R x_model + t): its grid's origin and axes
+/// moved, its velocities rotated with them, as a scanner in that frame would record them.
+inline mri::Flow4D moved_scan(const mri::Flow4D& data, const mri::RigidTransform& t) {
+  mri::Flow4D moved = data;
+  moved.grid.origin = t.apply(data.grid.origin);
+  for (int a = 0; a < 3; ++a)
+    moved.grid.direction[a] = t.rotate(data.grid.direction[a]);
+  for (mri::Frame& f : moved.frames)
+    for (std::size_t v = 0; v < f.magnitude.size(); ++v) {
+      const Vec3 u = t.rotate({f.velocity[0][v], f.velocity[1][v], f.velocity[2][v]});
+      for (int a = 0; a < 3; ++a)
+        f.velocity[a][v] = static_cast<float>(u[a]);
+    }
+  return moved;
 }
 
 } // namespace tearflow::testing

@@ -16,6 +16,7 @@
 #include "mri/plane_flow.hpp"
 #include "mri/surface_alignment.hpp"
 #include "mri/synthetic_run.hpp"
+#include "mri_support.hpp"
 
 using namespace tearflow;
 using namespace tearflow::testing;
@@ -157,10 +158,8 @@ TEST(MriRunScan, SurfaceAlignmentRecoversARotatedShiftedScan) {
   mri::RigidTransform truth;
   truth.rotation = r;
   truth.translation = {3e-3, -2e-3, 4e-3};
-  mri::Flow4D moved = model_frame;
-  moved.grid.origin = truth.apply(model_frame.grid.origin);
-  for (int a = 0; a < 3; ++a)
-    moved.grid.direction[a] = truth.rotate(model_frame.grid.direction[a]);
+  // (its velocities rotated too: the fit below reads the magnitude only)
+  const mri::Flow4D moved = moved_scan(model_frame, truth);
 
   // The fit sees the scan with SNR 20 noise (in the magnitude too: the iso-surface must cope
   // with it); the flows below are compared noise-free.
@@ -201,12 +200,6 @@ TEST(MriRunScan, SurfaceAlignmentRecoversARotatedShiftedScan) {
   // Through the command: the moved scan (its velocity rotated into the patient frame too)
   // measured at the model's landmarks moved by the surface fit gives the flows of the scan
   // in the model's frame at the landmarks themselves.
-  for (mri::Frame& f : moved.frames)
-    for (std::size_t v = 0; v < f.magnitude.size(); ++v) {
-      const Vec3 u = truth.rotate({f.velocity[0][v], f.velocity[1][v], f.velocity[2][v]});
-      for (int a = 0; a < 3; ++a)
-        f.velocity[a][v] = static_cast<float>(u[a]);
-    }
   mri::write_volumes(model_frame, dir / "scan-model", ".mha");
   mri::write_volumes(moved, dir / "scan-moved", ".mha");
   geometry::Landmarks landmarks;

@@ -49,6 +49,7 @@
 #include "mri/alignment.hpp"
 #include "mri/image_io.hpp"
 #include "mri/synthetic_run.hpp"
+#include "mri_support.hpp"
 #include "pictures_support.hpp"
 #include "report/flow_pictures.hpp"
 #include "report/flow_section.hpp"
@@ -107,17 +108,7 @@ struct ScannedRun {
     mri::RigidTransform t;
     t.rotation = mri::rotation({1 / std::sqrt(3.0), 1 / std::sqrt(3.0), 1 / std::sqrt(3.0)}, 20);
     t.translation = {0.03, -0.02, 0.04};
-    mri::Flow4D moved = data;
-    moved.grid.origin = t.apply(data.grid.origin);
-    for (int a = 0; a < 3; ++a)
-      moved.grid.direction[a] = t.rotate(data.grid.direction[a]);
-    for (mri::Frame& f : moved.frames)
-      for (std::size_t v = 0; v < f.magnitude.size(); ++v) {
-        const Vec3 u = t.rotate({f.velocity[0][v], f.velocity[1][v], f.velocity[2][v]});
-        for (int a = 0; a < 3; ++a)
-          f.velocity[a][v] = static_cast<float>(u[a]);
-      }
-    mri::write_volumes(moved, dir / "scan-moved", ".mha");
+    mri::write_volumes(testing::moved_scan(data, t), dir / "scan-moved", ".mha");
     nlohmann::json pairs = {
         {"units", "mm"}, {"model", nlohmann::json::array()}, {"mri", nlohmann::json::array()}};
     for (const Vec3& x : {Vec3{0, 0, 0}, Vec3{0.02, 0, 0}, Vec3{0, 0.01, 0}, Vec3{0, 0, 0.03}}) {
