@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <optional>
 
 #include <unistd.h>
 
@@ -409,27 +408,14 @@ int MriCommand::flow() const {
   nlohmann::json report;
   Flow4D data = load_corrected(input_, report);
   geometry::Landmarks landmarks = geometry::read_landmarks(landmarks_);
-  if (!align_surface_.empty()) {
-    const auto t0 = std::chrono::steady_clock::now();
-    std::optional<RigidTransform> start;
-    if (!align_.empty())
-      start = read_alignment(align_);
-    const double voxel =
-        std::min({data.grid.spacing[0], data.grid.spacing[1], data.grid.spacing[2]});
-    const SurfaceFit fit = fit_surface(read_model_surface(align_surface_),
-                                       lumen_boundary_points(data, lumen_fraction_), voxel, start);
-    landmarks = transformed(landmarks, fit.transform);
-    report["alignment"] = fit.to_json();
-    report["alignment_s"] = seconds_since(t0);
-    if (!quiet_)
-      fmt::print("surface alignment ({} start, {} iterations): RMS {:.3f} mm over {} of {} "
-                 "boundary points\n",
-                 fit.start, fit.iterations, fit.transform.rms * 1e3, fit.kept, fit.points);
-  } else if (!align_.empty()) {
-    const RigidTransform t = read_alignment(align_);
-    landmarks = transformed(landmarks, t);
-    report["alignment"] = t.to_json();
-  }
+  const ScanPlacement placed = place_scan(data, align_, align_surface_, lumen_fraction_, report);
+  if (!align_.empty() || !align_surface_.empty())
+    landmarks = transformed(landmarks, placed.transform);
+  if (placed.fit && !quiet_)
+    fmt::print("surface alignment ({} start, {} iterations): RMS {:.3f} mm over {} of {} "
+               "boundary points\n",
+               placed.fit->start, placed.fit->iterations, placed.fit->transform.rms * 1e3,
+               placed.fit->kept, placed.fit->points);
   auto t0 = std::chrono::steady_clock::now();
   PlaneOptions po;
   po.lumen_fraction = lumen_fraction_;

@@ -2,6 +2,7 @@
 #include "mri/surface_alignment.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -278,6 +279,28 @@ nlohmann::json SurfaceFit::to_json() const {
   j["points_kept"] = kept;
   j["iterations"] = iterations;
   return j;
+}
+
+ScanPlacement place_scan(const Flow4D& data, const std::filesystem::path& align,
+                         const std::filesystem::path& surface, double lumen_fraction,
+                         nlohmann::json& report) {
+  ScanPlacement p;
+  if (!align.empty())
+    p.transform = read_alignment(align);
+  if (!surface.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double voxel =
+        std::min({data.grid.spacing[0], data.grid.spacing[1], data.grid.spacing[2]});
+    p.fit = fit_surface(read_model_surface(surface), lumen_boundary_points(data, lumen_fraction),
+                        voxel, align.empty() ? std::nullopt : std::optional(p.transform));
+    p.transform = p.fit->transform;
+    report["alignment"] = p.fit->to_json();
+    report["alignment_s"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } else if (!align.empty()) {
+    report["alignment"] = p.transform.to_json();
+  }
+  return p;
 }
 
 } // namespace tearflow::mri

@@ -49,4 +49,18 @@ SurfaceFit fit_surface(const vtkSmartPointer<vtkPolyData>& model_surface,
                        const std::vector<Vec3>& mri_points, double voxel,
                        const std::optional<RigidTransform>& start = std::nullopt);
 
+/// How a scan is placed on the model (`mri flow --align / --align-surface`, `pictures
+/// --mri-align / --mri-align-surface`): the paired points of `align` (alignment.hpp's JSON),
+/// and/or the surface fit above onto `surface` (a run folder or .vtu), started from `align`
+/// when both are given; the lumen at `lumen_fraction`. `report` gets "alignment" (the fit's
+/// JSON, else the transform's) and, for a fit, "alignment_s". Neither given: the identity,
+/// and `report` unchanged.
+struct ScanPlacement {
+  RigidTransform transform;      ///< model -> MRI
+  std::optional<SurfaceFit> fit; ///< when `surface` was given
+};
+ScanPlacement place_scan(const Flow4D& data, const std::filesystem::path& align,
+                         const std::filesystem::path& surface, double lumen_fraction,
+                         nlohmann::json& report);
+
 } // namespace tearflow::mri

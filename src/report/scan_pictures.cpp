@@ -40,18 +40,12 @@ ScanPictures::ScanPictures(const ScanOptions& o, const std::filesystem::path& ru
   data_ = mri::read_corrected(o.scan, choice, corrections);
   data_.require(mri::Encoding::velocity_3d, fmt::format("pictures: --mri '{}'", o.scan));
   record_ = {{"scan", o.scan}, {"corrections", corrections}};
-  if (!o.align.empty())
-    model_to_scan_ = mri::read_alignment(o.align);
-  if (o.align_surface) {
-    const double voxel =
-        std::min({data_.grid.spacing[0], data_.grid.spacing[1], data_.grid.spacing[2]});
-    const mri::SurfaceFit fit = mri::fit_surface(
-        mri::read_model_surface(run_dir), mri::lumen_boundary_points(data_, o.lumen_fraction),
-        voxel, o.align.empty() ? std::nullopt : std::optional(model_to_scan_));
-    model_to_scan_ = fit.transform;
-    record_["surface_fit"] = fit.to_json();
-  }
-  record_["model_to_scan"] = model_to_scan_.to_json();
+  model_to_scan_ =
+      mri::place_scan(data_, o.align, o.align_surface ? run_dir : std::filesystem::path(),
+                      o.lumen_fraction, record_)
+          .transform;
+  if (!record_.contains("alignment"))
+    record_["alignment"] = "none: the scan is in the model's coordinates";
   lumen_ = mri::lumen_level(data_, o.lumen_fraction);
   record_["lumen_level"] = {{"fraction_of_p99_mean_magnitude", o.lumen_fraction},
                             {"magnitude", lumen_.level}};
