@@ -286,6 +286,10 @@ json fit_json(const CalibrationFit& f) {
           {"evaluations", f.evaluations}};
 }
 
+/// 2: the tear nodes measured at the tears' rims and the entry's dividing-flow loss; a fit of
+/// version 1 was made for another network.
+constexpr int kCalibrationVersion = 2;
+
 std::filesystem::path calibration_file(const std::filesystem::path& model_dir) {
   return model_dir / "rom" / "calibration.json";
 }
@@ -294,11 +298,11 @@ std::filesystem::path calibration_file(const std::filesystem::path& model_dir) {
 
 void save_calibration(const std::filesystem::path& model_dir, const Calibration& c) {
   const std::filesystem::path file = calibration_file(model_dir);
-  json j{{"format", "tearflow-rom-calibration"}, {"version", 1}};
+  json j{{"format", "tearflow-rom-calibration"}, {"version", kCalibrationVersion}};
   if (std::filesystem::exists(file)) {
     std::ifstream in(file);
     const json old = json::parse(in, nullptr, false);
-    if (!old.is_discarded() && old.is_object())
+    if (!old.is_discarded() && old.is_object() && old.value("version", 0) == kCalibrationVersion)
       for (const char* key : {"rigid", "compliant"})
         if (old.contains(key))
           j[key] = old[key];
@@ -328,6 +332,10 @@ RomCoefficients load_coefficients(const std::filesystem::path& model_dir,
   const json j = json::parse(in, nullptr, false);
   if (j.is_discarded() || !j.is_object())
     input_error("{}: not JSON", file.string());
+  if (j.value("version", 0) != kCalibrationVersion)
+    input_error("{}: calibration version {}, this tearflow's model is version {} (its network "
+                "changed): run `tearflow rom calibrate` again",
+                file.string(), j.value("version", 0), kCalibrationVersion);
   const char* own = compliant ? "compliant" : "rigid";
   const char* other = compliant ? "rigid" : "compliant";
   const char* key = j.contains(own) ? own : other;

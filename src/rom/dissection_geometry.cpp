@@ -187,6 +187,30 @@ std::string insert_tear_node(std::vector<ChainPoint>& chain, const geometry::Tea
   return node.name;
 }
 
+/// A tear's node's area, measured where its lumen is whole: the mean of its sections at the
+/// tear's two rims (the planes `margin` beyond its ends along its axis). The stations'
+/// interpolation it replaces misses how the lumina change toward a tear: in the parametric
+/// model the flap moves from a 57 mm^2 TL at station 5 to a 240 mm^2 one at the exit tear, which
+/// the merged flow leaving the tear passes. A rim's section must not hold the other lumen's
+/// point `other` (when that node is a lumen's, not the undivided aorta's), else must lie within
+/// half and 1.5 times the interpolated area; the node keeps that area where no rim qualifies.
+void measure_tear_node(const mesh::Mesh& mesh, int fluid, const geometry::TearLandmark& t,
+                       ChainPoint& node, const ChainPoint& other, double margin) {
+  const bool separate = other.lumen == "TL" || other.lumen == "FL";
+  double sum = 0.0;
+  int found = 0;
+  for (const double side : {-1.0, 1.0}) {
+    const Vec3 shift = (side * (t.axial + margin)) * unit(t.axis);
+    const Cut cut{node.cut.origin + shift, node.cut.normal, node.cut.point + shift};
+    const Vec3 away = other.cut.point + shift;
+    const Piece p = section_piece(mesh, fluid, cut, 0.0, separate ? &away : nullptr);
+    if (p.found && (separate || (p.area > 0.5 * node.area && p.area < 1.5 * node.area)))
+      sum += p.area, ++found;
+  }
+  if (found > 0)
+    node.area = sum / found;
+}
+
 /// The segments of a chain, each sampled at its ends and three interior sections.
 void chain_segments(const mesh::Mesh& mesh, int fluid, const std::vector<ChainPoint>& chain,
                     const std::vector<ChainPoint>* partner, const std::string& lumen,
@@ -415,6 +439,17 @@ DissectionGeometry measure_dissection(const mesh::Mesh& mesh, const geometry::La
   for (const geometry::TearLandmark& t : lm.tears) {
     const std::string tn = insert_tear_node(tl, t, "TL", snap);
     const std::string fn = insert_tear_node(fl, t, "FL", snap);
+    // A node inserted for the tear (not a station it lies on) is measured at the tear's rims.
+    auto point = [](std::vector<ChainPoint>& chain, const std::string& name) {
+      return &*std::find_if(chain.begin(), chain.end(),
+                            [&](const ChainPoint& c) { return c.name == name; });
+    };
+    ChainPoint *tp = point(tl, tn), *fp = point(fl, fn);
+    const ChainPoint tl_before = *tp;
+    if (tn == "TL_" + t.name)
+      measure_tear_node(mesh, fluid, t, *tp, *fp, snap);
+    if (fn == "FL_" + t.name)
+      measure_tear_node(mesh, fluid, t, *fp, tl_before, snap);
     g.tears.push_back({t.name, tn, fn, t.area});
   }
   for (const ChainPoint& c : tl)
@@ -454,7 +489,7 @@ DissectionGeometry measure_dissection(const mesh::Mesh& mesh, const geometry::La
 
 json to_json(const DissectionGeometry& g) {
   json j{{"format", "tearflow-rom-geometry"},
-         {"version", 2},
+         {"version", 3},
          {"mesh_digest", g.mesh_digest},
          {"wall_thickness_m", g.wall_thickness}};
   for (const GeometryNode& n : g.nodes)
@@ -483,8 +518,8 @@ json to_json(const DissectionGeometry& g) {
 DissectionGeometry geometry_from_json(const json& j, const std::string& source) {
   DissectionGeometry g;
   try {
-    if (j.at("format") != "tearflow-rom-geometry" || j.at("version") != 2)
-      input_error("{}: not a tearflow-rom-geometry file of version 2", source);
+    if (j.at("format") != "tearflow-rom-geometry" || j.at("version") != 3)
+      input_error("{}: not a tearflow-rom-geometry file of version 3", source);
     g.mesh_digest = j.at("mesh_digest").get<std::string>();
     g.wall_thickness = j.at("wall_thickness_m").get<double>();
     for (const json& n : j.at("nodes"))
@@ -527,7 +562,7 @@ DissectionGeometry model_geometry(const std::filesystem::path& model_dir, bool p
   if (std::filesystem::exists(file)) {
     std::ifstream in(file);
     json j = json::parse(in, nullptr, false);
-    if (!j.is_discarded() && j.value("mesh_digest", "") == digest && j.value("version", 0) == 2)
+    if (!j.is_discarded() && j.value("mesh_digest", "") == digest && j.value("version", 0) == 3)
       return geometry_from_json(j, file.string());
   }
   if (progress)

@@ -147,6 +147,19 @@ LumpedNetwork build_network(const DissectionGeometry& g, const RomInputs& in,
     e.inertance = in.density * (h + 1.7 * std::sqrt(a / M_PI)) / a;
     e.loss = k.tear_coefficient(t.name) * std::pow(a / t.area, k.tear_size_exponent) * 0.5 *
              in.density / (a * a);
+    // A tear the undivided aorta feeds (its TL node is the end of an aorta segment, the
+    // entry): the dividing flow's momentum loss, K_x rho/2 v_t |v_a|, v_a the through-flow
+    // approaching on that segment at its upstream node (file comment).
+    const int tl = g.node(t.tl_node);
+    for (size_t j = 0; j < g.segments.size(); ++j) {
+      const GeometrySegment& s = g.segments[j];
+      const int from = g.node(s.from);
+      if (g.node(s.to) == tl && g.nodes[from].lumen == "aorta" && k.tear_cross > 0.0) {
+        e.cross_edge = static_cast<int>(j); // edges are the segments', in order
+        e.cross = k.tear_cross * 0.5 * in.density / (a * g.nodes[from].area);
+        break;
+      }
+    }
     edges.push_back(e);
   }
   std::vector<NetworkOutlet> outlets;
@@ -269,6 +282,7 @@ json to_json(const RomCoefficients& k) {
          {"flap_compliance_factor", k.flap},
          {"tear_loss_coefficient", k.tear_loss},
          {"tear_size_exponent", k.tear_size_exponent},
+         {"tear_cross_coefficient", k.tear_cross},
          {"tears", json::object()}};
   for (const auto& [name, value] : k.tear)
     j["tears"][name] = value;
@@ -294,6 +308,7 @@ RomCoefficients coefficients_from_json(const json& j, const std::string& source)
       input_error("{}: 'tear_size_exponent' must be a number", source);
     k.tear_size_exponent = j["tear_size_exponent"].get<double>();
   }
+  number("tear_cross_coefficient", k.tear_cross);
   if (j.contains("tears")) {
     if (!j["tears"].is_object())
       input_error("{}: 'tears' must map tear names to loss coefficients", source);

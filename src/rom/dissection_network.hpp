@@ -15,7 +15,13 @@
 //   R = 8 pi mu h / A_t^2,  L = rho (h + 1.7 sqrt(A_t / pi)) / A_t  (the end corrections of a
 //   flanged hole, 0.85 r per side),  loss K_t (A_t / A_t0)^gamma rho / (2 A_t^2) q|q|, with
 //   A_t0 the model's own area of that tear (K_t calibrated; gamma only from runs of two
-//   sizes of a tear, else 0).
+//   sizes of a tear, else 0). A tear the undivided aorta feeds (the entry: its TL node ends an
+//   aorta segment) adds the dividing flow's loss
+//     K_x rho/2 v_t |v_a| = K_x rho / (2 A_t A_a) q |q_a|,  K_x = 2,
+//   q_a the flow approaching on that segment and A_a its upstream node's area: the flow turning
+//   through the flap leaves its share of the through-flow's momentum flux, rho v_a per unit of
+//   flux, in the flap. It is what makes a large entry tear lossier per velocity head than a
+//   small one (K_t + K_x v_a / v_t), as the 3D runs show and an orifice law alone cannot.
 // A compliant wall (a case with a solid) gives every node the compliance of its share of the
 // wall: over the node's length l_i (half its segments'), with r the equivalent radius of the
 // whole aortic section there (TL + FL at a station) and E' = E / (1 - nu^2) (hoop, plane
@@ -50,6 +56,10 @@ struct RomCoefficients {
   /// gamma: K_t scales as (A_t / A_t,model)^gamma when a tear is resized; 0 (the classical
   /// orifice, K independent of size) unless runs of two sizes calibrated it.
   double tear_size_exponent = 0.0;
+  /// K_x of the dividing flow's loss at a tear the undivided aorta feeds, K_x rho/2 v_t |v_a|:
+  /// 2, the through-flow's momentum rho v_a per unit of the tear's flux, lost as the flow
+  /// turns through the flap (a derived constant, not fitted: one tear size cannot tell it).
+  double tear_cross = 2.0;
   double tear_coefficient(const std::string& name) const;
 };
 

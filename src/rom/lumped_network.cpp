@@ -55,6 +55,9 @@ LumpedNetwork::LumpedNetwork(std::vector<NetworkNode> nodes, std::vector<Network
       input_error("reduced-order network: edge {} has a negative or NaN parameter (R {}, L {}, "
                   "k {}, areas {} / {})",
                   e.name, e.resistance, e.inertance, e.loss, e.area_from, e.area_to);
+    if (e.cross_edge >= static_cast<int>(edges_.size()) || !(e.cross >= 0.0))
+      input_error("reduced-order network: edge {} has a cross-flow loss {} from edge {}", e.name,
+                  e.cross, e.cross_edge);
     if (e.resistance == 0.0 && e.inertance == 0.0 && e.loss == 0.0 &&
         (e.area_from == 0.0 || e.area_to == 0.0))
       input_error("reduced-order network: edge {} has neither resistance, inertance nor loss",
@@ -189,6 +192,8 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       const double c = q >= 0.0 ? convection_[e].forward : -convection_[e].backward;
       w.rhs(edge.from) += q, w.rhs(edge.to) -= q;
       w.rhs(row) += edge.resistance * q + c * q * q - x(edge.from) + x(edge.to);
+      if (edge.cross_edge >= 0)
+        w.rhs(row) += edge.cross * q * std::abs(x(n_nodes + edge.cross_edge));
     }
     for (size_t o = 0; o < outlets_.size(); ++o) {
       const bc::WindkesselRCR& rcr = outlets_[o].rcr;
@@ -209,6 +214,11 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       w.jacobian(edge.from, row) += 1.0, w.jacobian(edge.to, row) -= 1.0;
       w.jacobian(row, row) += edge.resistance + 2.0 * c * q;
       w.jacobian(row, edge.from) -= 1.0, w.jacobian(row, edge.to) += 1.0;
+      if (edge.cross_edge >= 0) {
+        const int col = n_nodes + edge.cross_edge;
+        w.jacobian(row, row) += edge.cross * std::abs(x(col));
+        w.jacobian(row, col) += edge.cross * q * (x(col) >= 0.0 ? 1.0 : -1.0);
+      }
     }
     for (size_t o = 0; o < outlets_.size(); ++o) {
       const bc::WindkesselRCR& rcr = outlets_[o].rcr;

@@ -43,6 +43,10 @@ struct NetworkEdge {
   double loss = 0.0;       ///< k, added to both directions' coefficient [Pa s^2/m^6]
   /// End areas for the Bernoulli and expansion terms [m^2]; 0: no convective term.
   double area_from = 0.0, area_to = 0.0;
+  /// A cross-flow loss m q |q_c| driven by another edge's flow q_c (a tear beside the lumen's
+  /// through-flow); none when `cross_edge` < 0. [Pa s^2/m^6]
+  int cross_edge = -1;
+  double cross = 0.0;
 };
 
 struct NetworkCoupling {
