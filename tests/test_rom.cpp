@@ -78,6 +78,21 @@ Stations predicted_stations(const fs::path& metrics) {
 
 } // namespace
 
+TEST(RomModel, FlapWidthIsTheChordThatDividesTheSection) {
+  // A straight chord at distance d from the centre of a circle of radius r is 2 sqrt(r^2 - d^2)
+  // long and cuts off the fraction (theta - sin theta) / (2 pi), theta = 2 acos(d / r): the
+  // width from that fraction must give the chord back (bisection to 1e-12, on either side).
+  const double r = 0.012;
+  for (const double d : {0.0, 0.2 * r, 0.5 * r, 0.8 * r, 0.97 * r}) {
+    const double theta = 2.0 * std::acos(d / r);
+    const double f = (theta - std::sin(theta)) / (2.0 * M_PI);
+    const double chord = 2.0 * std::sqrt(r * r - d * d);
+    EXPECT_NEAR(rom::flap_width(r, f), chord, 1e-9 * r) << "d = " << d;
+    EXPECT_NEAR(rom::flap_width(r, 1.0 - f), chord, 1e-9 * r) << "d = " << d;
+  }
+  EXPECT_NEAR(rom::flap_width(r, 0.0), 0.0, 1e-9 * r);
+}
+
 TEST(RomModel, EndToEndOnTheBuiltModel) {
   const fs::path dir = fresh_dir("rom");
   const fs::path model = dir / "OR";
@@ -173,7 +188,8 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
   // --- calibrated on OR alone, the held-out EN and EX (the issue's criterion) ---------------
   // FR_FL within 5 points at every station, peak-systolic dP within 3 mmHg or 20 % at every
   // station: the accuracy the issue asks (docs/rom.md's table, bench/rom_accuracy.py), for the
-  // rigid runs with the calibration above and for the FSI runs with a compliant one.
+  // rigid runs with the calibration above and for the FSI runs with a compliant one. The
+  // closest margins: FR_FL 3.9 points (rigid EN), dP 2.6 mmHg (FSI EN, station 4).
   auto held_out = [&](const std::string& kind) {
     for (const std::string variant : {"EN", "EX"}) {
       const fs::path c = stored_case(variant, model, dir, kind);
@@ -188,13 +204,9 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
         std::printf("%s %s station %d: FR_FL %.1f (3D %.1f) %%, dP %.1f (3D %.1f) mmHg\n",
                     kind.c_str(), variant.c_str(), k + 1, d0.fr[k], d3.fr[k], d0.dp[k], d3.dp[k]);
         EXPECT_NEAR(d0.fr[k], d3.fr[k], 5.0) << kind << " " << variant << " station " << k + 1;
-        if (kind == "fsi" && variant == "EN" && k == 3)
-          continue; // missed by 3.6 mmHg (7.3 vs 10.9), the one miss: checked below
         EXPECT_NEAR(d0.dp[k], d3.dp[k], std::max(3.0, 0.2 * std::abs(d3.dp[k])))
             << kind << " " << variant << " station " << k + 1;
       }
-      if (kind == "fsi" && variant == "EN") // the miss, bounded so that a worse one fails
-        EXPECT_NEAR(d0.dp[3], d3.dp[3], 4.0);
       std::fflush(stdout);
     }
   };

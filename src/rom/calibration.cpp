@@ -286,9 +286,10 @@ json fit_json(const CalibrationFit& f) {
           {"evaluations", f.evaluations}};
 }
 
-/// 2: the tear nodes measured at the tears' rims and the entry's dividing-flow loss; a fit of
-/// version 1 was made for another network.
-constexpr int kCalibrationVersion = 2;
+/// 2: the tear nodes measured at the tears' rims and the entry's dividing-flow loss; 3: the
+/// flap's width its chord, not the diameter. A fit of an earlier version was made for another
+/// network.
+constexpr int kCalibrationVersion = 3;
 
 std::filesystem::path calibration_file(const std::filesystem::path& model_dir) {
   return model_dir / "rom" / "calibration.json";

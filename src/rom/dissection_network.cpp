@@ -65,6 +65,16 @@ RomInputs rom_inputs(const io::Case& c, const DissectionGeometry& g, double wall
   return in;
 }
 
+double flap_width(double r, double f) {
+  const double target = 2.0 * M_PI * std::clamp(std::min(f, 1.0 - f), 0.0, 0.5);
+  double lo = 0.0, hi = M_PI;
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (mid - std::sin(mid) < target ? lo : hi) = mid;
+  }
+  return 2.0 * r * std::sin(0.25 * (lo + hi));
+}
+
 namespace {
 
 /// Per node: its length (half its segments'), and dA/dp of its lumen's wall and of its flap.
@@ -91,7 +101,7 @@ std::vector<NodeLaw> node_laws(const DissectionGeometry& g, const RomInputs& in,
     const double section = 2.0 * M_PI * r / (e_hoop * w.thickness / (r * r) + w.support_stiffness);
     law[i].outer = section * n.area / n.total_area;
     if (!n.partner.empty()) {
-      const double b = 2.0 * r;
+      const double b = flap_width(r, n.area / n.total_area);
       law[i].flap = k.flap * std::pow(b, 5) / (720.0 * bending);
     }
   }

@@ -27,9 +27,11 @@
 // whole aortic section there (TL + FL at a station) and E' = E / (1 - nu^2) (hoop, plane
 // strain) and the tissue support k_s,
 //   dA/dp = 2 pi r / (E' h / r^2 + k_s),  C_i = l_i dA/dp A_i / A_section,
-// and the flap between a TL and its FL node a membrane: a plate strip of width b = 2 r clamped
-// at both edges, whose swept area per pressure difference is b^5 / (720 D), D = E h^3 /
-// (12 (1 - nu^2)):  C_TL,FL = beta l_i b^5 / (720 D)  (beta calibrated). Rigid walls (a case
+// and the flap between a TL and its FL node a membrane: a plate strip of width b clamped at
+// both edges, b the chord that divides a circle of radius r as the TL and FL divide the
+// section (the built model's flap is straight across it; flap_width), whose swept area per
+// pressure difference is b^5 / (720 D), D = E h^3 / (12 (1 - nu^2)):
+//   C_TL,FL = beta l_i b^5 / (720 D)  (beta calibrated). Rigid walls (a case
 // without a solid): no node compliance, no flap; only the outlets' capacitors.
 #include <map>
 #include <optional>
@@ -62,6 +64,12 @@ struct RomCoefficients {
   double tear_cross = 2.0;
   double tear_coefficient(const std::string& name) const;
 };
+
+/// The width of a straight flap across a circular section of radius r that leaves the
+/// fraction f of its area on one side: the chord 2 r sin(theta/2) of the circular segment
+/// whose area fraction is (theta - sin theta) / (2 pi), theta its central angle. A diameter
+/// (2 r) at f = 1/2; 0.76 of it at the built model's station 4 (TL 12 % of the section).
+double flap_width(double r, double f);
 
 /// The case's wall as the network sees it.
 struct WallProperties {
