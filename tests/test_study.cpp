@@ -133,7 +133,8 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
   // size exponent is fitted), swept, its maps with both variants marked in the report.
   const json calibration = read_json(out / "OR" / "geometry" / "rom" / "calibration.json");
   EXPECT_EQ(calibration["rigid"]["runs"].size(), 2u);
-  EXPECT_NE(calibration["rigid"]["coefficients"]["tear_size_exponent"].get<double>(), 0.0);
+  EXPECT_NE(calibration["rigid"]["coefficients"]["tear_size_exponents"]["entry"].get<double>(),
+            0.0);
   const std::string sweep = read_text(out / "rom" / "sweep.csv");
   EXPECT_EQ(std::count(sweep.begin(), sweep.end(), '\n'), 17); // the header, 4 x 4 variants
   const std::string report = read_text(out / "report.html");

@@ -76,10 +76,10 @@ struct Layout {
 };
 
 /// The parameters a fit varies: those of `fit` (names as in calibration.json's keys, short:
-/// viscous, friction, arch, tears, flap, size) that apply (flap: compliant walls; size: runs
-/// of two sizes of a tear).
+/// viscous, friction, arch, tears, flap, size) that apply (flap: compliant walls; size: the
+/// exponent of each tear in `resized`, those the runs hold at two sizes).
 Layout layout(const std::set<std::string>& fit, const DissectionGeometry& g, bool compliant,
-              bool sizes) {
+              const std::set<std::string>& resized) {
   Layout l;
   auto wanted = [&](const char* name) { return fit.empty() || fit.count(name) > 0; };
   if (wanted("viscous"))
@@ -101,9 +101,13 @@ Layout layout(const std::set<std::string>& fit, const DissectionGeometry& g, boo
     }
   if (compliant && wanted("flap"))
     l.parameters.push_back({"flap", [](RomCoefficients& k) -> double& { return k.flap; }});
-  if (sizes && wanted("size"))
-    l.parameters.push_back(
-        {"size", [](RomCoefficients& k) -> double& { return k.tear_size_exponent; }, false});
+  if (wanted("size"))
+    for (const std::string& name : resized) {
+      l.base.tear_size[name] = 0.0;
+      l.parameters.push_back({"size " + name,
+                              [name](RomCoefficients& k) -> double& { return k.tear_size[name]; },
+                              false});
+    }
   return l;
 }
 
@@ -232,10 +236,11 @@ Calibration calibrate_model(const DissectionGeometry& g, const geometry::Landmar
         obj.runs.push_back(&r);
     if (obj.runs.empty())
       continue;
-    bool sizes = false;
+    std::set<std::string> resized; // the tears some run holds at another size
     for (const CalibrationRun* r : obj.runs)
-      sizes = sizes || !r->tear_areas.empty();
-    obj.layout = layout(fit, g, compliant, sizes);
+      for (const auto& [name, area] : r->tear_areas)
+        resized.insert(name);
+    obj.layout = layout(fit, g, compliant, resized);
     if (obj.layout.size() == 0)
       input_error("rom calibrate: nothing to fit (--fit names none of viscous, arch, friction, "
                   "tears, flap, size that apply)");

@@ -19,6 +19,11 @@ double RomCoefficients::tear_coefficient(const std::string& name) const {
   return it == tear.end() ? tear_loss : it->second;
 }
 
+double RomCoefficients::size_exponent(const std::string& name) const {
+  const auto it = tear_size.find(name);
+  return it == tear_size.end() ? tear_size_exponent : it->second;
+}
+
 RomInputs rom_inputs(const io::Case& c, const DissectionGeometry& g, double wall_thickness) {
   RomInputs in;
   in.density = c.fluid.density, in.viscosity = c.fluid.viscosity;
@@ -155,7 +160,7 @@ LumpedNetwork build_network(const DissectionGeometry& g, const RomInputs& in,
     NetworkEdge e{"tear_" + t.name, g.node(t.tl_node), g.node(t.fl_node)};
     e.resistance = 8.0 * M_PI * in.viscosity * h / (a * a);
     e.inertance = in.density * (h + 1.7 * std::sqrt(a / M_PI)) / a;
-    e.loss = k.tear_coefficient(t.name) * std::pow(a / t.area, k.tear_size_exponent) * 0.5 *
+    e.loss = k.tear_coefficient(t.name) * std::pow(a / t.area, k.size_exponent(t.name)) * 0.5 *
              in.density / (a * a);
     // A tear the undivided aorta feeds (its TL node is the end of an aorta segment, the
     // entry): the dividing flow's momentum loss, K_x rho/2 v_t |v_a|, v_a the through-flow
@@ -293,9 +298,12 @@ json to_json(const RomCoefficients& k) {
          {"tear_loss_coefficient", k.tear_loss},
          {"tear_size_exponent", k.tear_size_exponent},
          {"tear_cross_coefficient", k.tear_cross},
-         {"tears", json::object()}};
+         {"tears", json::object()},
+         {"tear_size_exponents", json::object()}};
   for (const auto& [name, value] : k.tear)
     j["tears"][name] = value;
+  for (const auto& [name, value] : k.tear_size)
+    j["tear_size_exponents"][name] = value;
   return j;
 }
 
@@ -319,6 +327,15 @@ RomCoefficients coefficients_from_json(const json& j, const std::string& source)
     k.tear_size_exponent = j["tear_size_exponent"].get<double>();
   }
   number("tear_cross_coefficient", k.tear_cross);
+  if (j.contains("tear_size_exponents")) { // may be negative
+    if (!j["tear_size_exponents"].is_object())
+      input_error("{}: 'tear_size_exponents' must map tear names to exponents", source);
+    for (const auto& [name, v] : j["tear_size_exponents"].items()) {
+      if (!v.is_number())
+        input_error("{}: tear_size_exponents.{} must be a number", source, name);
+      k.tear_size[name] = v.get<double>();
+    }
+  }
   if (j.contains("tears")) {
     if (!j["tears"].is_object())
       input_error("{}: 'tears' must map tear names to loss coefficients", source);
