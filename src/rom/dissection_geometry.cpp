@@ -444,12 +444,11 @@ DissectionGeometry measure_dissection(const mesh::Mesh& mesh, const geometry::La
       return &*std::find_if(chain.begin(), chain.end(),
                             [&](const ChainPoint& c) { return c.name == name; });
     };
-    ChainPoint *tp = point(tl, tn), *fp = point(fl, fn);
-    const ChainPoint tl_before = *tp;
+    ChainPoint *tp = point(tl, tn), *fp = point(fl, fn); // `other` is read for its point only
     if (tn == "TL_" + t.name)
       measure_tear_node(mesh, fluid, t, *tp, *fp, snap);
     if (fn == "FL_" + t.name)
-      measure_tear_node(mesh, fluid, t, *fp, tl_before, snap);
+      measure_tear_node(mesh, fluid, t, *fp, *tp, snap);
     g.tears.push_back({t.name, tn, fn, t.area});
   }
   for (const ChainPoint& c : tl)

@@ -21,7 +21,7 @@ double RomCoefficients::tear_coefficient(const std::string& name) const {
 
 double RomCoefficients::size_exponent(const std::string& name) const {
   const auto it = tear_size.find(name);
-  return it == tear_size.end() ? tear_size_exponent : it->second;
+  return it == tear_size.end() ? 0.0 : it->second;
 }
 
 RomInputs rom_inputs(const io::Case& c, const DissectionGeometry& g, double wall_thickness) {
@@ -166,10 +166,10 @@ LumpedNetwork build_network(const DissectionGeometry& g, const RomInputs& in,
     // entry): the dividing flow's momentum loss, K_x rho/2 v_t |v_a|, v_a the through-flow
     // approaching on that segment at its upstream node (file comment).
     const int tl = g.node(t.tl_node);
-    for (size_t j = 0; j < g.segments.size(); ++j) {
+    for (size_t j = 0; j < g.segments.size() && k.tear_cross > 0.0; ++j) {
       const GeometrySegment& s = g.segments[j];
       const int from = g.node(s.from);
-      if (g.node(s.to) == tl && g.nodes[from].lumen == "aorta" && k.tear_cross > 0.0) {
+      if (g.node(s.to) == tl && g.nodes[from].lumen == "aorta") {
         e.cross_edge = static_cast<int>(j); // edges are the segments', in order
         e.cross = k.tear_cross * 0.5 * in.density / (a * g.nodes[from].area);
         break;
@@ -296,7 +296,6 @@ json to_json(const RomCoefficients& k) {
          {"arch_loss_coefficient", k.arch_loss},
          {"flap_compliance_factor", k.flap},
          {"tear_loss_coefficient", k.tear_loss},
-         {"tear_size_exponent", k.tear_size_exponent},
          {"tear_cross_coefficient", k.tear_cross},
          {"tears", json::object()},
          {"tear_size_exponents", json::object()}};
@@ -321,11 +320,6 @@ RomCoefficients coefficients_from_json(const json& j, const std::string& source)
   number("arch_loss_coefficient", k.arch_loss);
   number("flap_compliance_factor", k.flap);
   number("tear_loss_coefficient", k.tear_loss);
-  if (j.contains("tear_size_exponent")) { // may be negative
-    if (!j["tear_size_exponent"].is_number())
-      input_error("{}: 'tear_size_exponent' must be a number", source);
-    k.tear_size_exponent = j["tear_size_exponent"].get<double>();
-  }
   number("tear_cross_coefficient", k.tear_cross);
   if (j.contains("tear_size_exponents")) { // may be negative
     if (!j["tear_size_exponents"].is_object())

@@ -55,11 +55,10 @@ struct RomCoefficients {
   double flap = 1.0;      ///< beta
   double tear_loss = 2.6; ///< K_t of a tear not listed below: 1 / C_c^2, C_c = 0.62
   std::map<std::string, double> tear; ///< K_t by tear name
-  /// gamma: K_t scales as (A_t / A_t,model)^gamma when a tear is resized; 0 (the classical
-  /// orifice, K independent of size) unless runs of two sizes calibrated it. Per tear in
-  /// `tear_size` (only a tear the runs held at two sizes can tell its own), else this one.
-  double tear_size_exponent = 0.0;
-  std::map<std::string, double> tear_size; ///< gamma by tear name
+  /// gamma by tear name: K_t scales as (A_t / A_t,model)^gamma when the tear is resized. Only
+  /// a tear the runs held at two sizes can tell its own; any other is the classical orifice,
+  /// gamma 0 (K independent of size).
+  std::map<std::string, double> tear_size;
   double size_exponent(const std::string& name) const;
   /// K_x of the dividing flow's loss at a tear the undivided aorta feeds, K_x rho/2 v_t |v_a|:
   /// 2, the through-flow's momentum rho v_a per unit of the tear's flux, lost as the flow
