@@ -3,7 +3,8 @@
 
 usage: bench/rom_accuracy.py STUDY_OUTPUT [STUDY_OUTPUT ...]
 
-For each finished study output folder with the variants OR, EN and EX (the main job's
+For each finished study output folder with the variants OR, EN and EX (or those of them it holds;
+a calibration or prediction that needs a missing one is left out) (the main job's
 results/tbad-demo, its rigid form, or the same at another element size), and for each kind of
 run it holds (`run`: the study's walls; `rigid`: compare_rigid's rigid counterparts), calibrates
 the model on OR's model directory (copied, so the study is not touched) with
@@ -43,7 +44,11 @@ def main():
         for kind in ("run", "rigid"):
             if not os.path.isdir(os.path.join(study, "OR", kind, "analysis")):
                 continue
+            have = [v for v in ("OR", "EN", "EX")
+                    if os.path.isdir(os.path.join(study, v, kind, "analysis"))]
             for calibrated_on in (["OR"], ["OR", "EX"], ["OR", "EN"]):
+                if any(v not in have for v in calibrated_on):
+                    continue
                 cmd = [BIN, "rom", "calibrate", "-q", model]
                 for v in calibrated_on:
                     cmd += ["--run", os.path.join(study, v, kind), "--case", case_of(study, v, kind),
@@ -52,7 +57,7 @@ def main():
                     os.remove(os.path.join(model, "rom", "calibration.json"))
                 subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
                 for v in ("EN", "EX"):
-                    if v in calibrated_on:
+                    if v in calibrated_on or v not in have:
                         continue
                     pred = os.path.join(tmp, f"{kind}-{'-'.join(calibrated_on)}-{v}")
                     subprocess.run([BIN, "rom", "predict", "-q", model, "--case",

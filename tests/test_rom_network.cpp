@@ -84,6 +84,36 @@ TEST(RomNetwork, CrossFlowLossFollowsTheOtherEdgesFlow) {
   }
 }
 
+TEST(RomNetwork, JunctionRegainCarriesTotalPressureOnward) {
+  // The through-flow Q arrives on edge 0 (areas A_0 -> A_j) at a junction (node 1) and
+  // divides into a side branch (edge 1, an orifice) and a lumen onward (edge 2, resistance r,
+  // areas A_j -> A_2, the junction's regain of Q's head). Steady, inviscid apart from r: the
+  // total pressure p + rho/2 v^2 carried from the junction (v = Q / A_j) to the lumen's end
+  // (v = q / A_2) falls by r q only, to Newton's tolerance; backward, the lumen's flow expands
+  // from A_2 into A_j and loses Borda-Carnot's rho/2 (1/A_2 - 1/A_j)^2 q^2 besides; without the
+  // regain the lumen's own Bernoulli term would take its own flow's head at A_j instead,
+  // off by rho/2 (Q^2 - q^2) / A_j^2 (tens of % of the drop here).
+  const double q = 2e-4, r = 4e6, a0 = 4e-4, aj = 2.5e-4, a2 = 2e-4;
+  NetworkEdge through{"through", 0, 1, 1e5, 0.0, 0.0, a0, aj},
+      branch{"branch", 1, 2, 0.0, 0.0, 2e9}, lumen{"lumen", 1, 3, r, 0.0, 0.0, aj, a2};
+  lumen.regain_edge = 0, lumen.regain = 0.5 * kRho / (aj * aj);
+  for (const double sign : {1.0, -1.0}) {
+    const LumpedNetwork net({{"in", 0.0}, {"j", 0.0}, {"b", 0.0}, {"l", 0.0}},
+                            {through, branch, lumen}, {},
+                            {{"ob", 2, {3e7, 0.0, 0.0, 0.0}}, {"ol", 3, {3e7, 0.0, 0.0, 0.0}}}, 0,
+                            steady(sign * q), kRho);
+    const NetworkSolution s = net.periodic(0.0, {0.0, 0.0}, {40, 4, 30, 1e-6, 1e-12});
+    const std::vector<double>&p = s.pressure.back(), &f = s.flow.back();
+    const double total_j = p[1] + 0.5 * kRho * f[0] * f[0] / (aj * aj);
+    const double total_2 = p[3] + 0.5 * kRho * f[2] * f[2] / (a2 * a2);
+    const double borda = f[2] < 0.0 ? 0.5 * kRho * std::pow(1 / a2 - 1 / aj, 2) * f[2] * f[2] : 0.0;
+    EXPECT_NEAR(total_j - total_2, r * f[2] - borda, 1e-9 * std::abs(p[1])) << "direction " << sign;
+    EXPECT_NEAR(f[1] + f[2], f[0], 1e-12 * q);
+    EXPECT_GT(std::abs(f[2]), 0.2 * q); // the lumen carries a real share ...
+    EXPECT_GT(std::abs(f[1]), 0.2 * q); // ... and so does the branch
+  }
+}
+
 TEST(RomNetwork, LinearNetworkConvergesToTheExactPeriodicStateAtSecondOrder) {
   // A series resistance into two RCR outlets: the exact periodic state is the frequency-
   // domain solution of bc::WindkesselNetwork. BDF2's error is O(dt^2): halving dt divides it

@@ -211,6 +211,30 @@ void measure_tear_node(const mesh::Mesh& mesh, int fluid, const geometry::TearLa
     node.area = sum / found;
 }
 
+/// The true lumen's area beside a tear (GeometryTear::channel_area): its TL node's rims, the
+/// lumen picked by a TL point. When that node is the undivided aorta's (an entry on DAo_prox),
+/// its own point may lie in the false lumen, so the point is the neighbouring TL station's,
+/// projected onto the node's plane, and that station's area is kept where no rim is found.
+double tear_channel(const mesh::Mesh& mesh, int fluid, const geometry::TearLandmark& t,
+                    const std::vector<ChainPoint>& tl, const ChainPoint* node,
+                    const ChainPoint& fl_node, double margin) {
+  if (node->lumen == "TL")
+    return node->area;
+  ChainPoint channel = *node;
+  const auto at = tl.begin() + (node - tl.data());
+  const auto next = std::find_if(at, tl.end(), [](const ChainPoint& c) { return c.lumen == "TL"; });
+  const auto prev = std::find_if(std::make_reverse_iterator(at), tl.rend(),
+                                 [](const ChainPoint& c) { return c.lumen == "TL"; });
+  const ChainPoint* station = next != tl.end() ? &*next : prev != tl.rend() ? &*prev : nullptr;
+  if (!station)
+    return node->area;
+  const Vec3 p = station->cut.point;
+  channel.cut.point = p - dot(p - node->cut.origin, node->cut.normal) * node->cut.normal;
+  channel.area = station->area;
+  measure_tear_node(mesh, fluid, t, channel, fl_node, margin);
+  return channel.area;
+}
+
 /// The segments of a chain, each sampled at its ends and three interior sections.
 void chain_segments(const mesh::Mesh& mesh, int fluid, const std::vector<ChainPoint>& chain,
                     const std::vector<ChainPoint>* partner, const std::string& lumen,
@@ -449,7 +473,7 @@ DissectionGeometry measure_dissection(const mesh::Mesh& mesh, const geometry::La
       measure_tear_node(mesh, fluid, t, *tp, *fp, snap);
     if (fn == "FL_" + t.name)
       measure_tear_node(mesh, fluid, t, *fp, *tp, snap);
-    g.tears.push_back({t.name, tn, fn, t.area});
+    g.tears.push_back({t.name, tn, fn, t.area, tear_channel(mesh, fluid, t, tl, tp, *fp, snap)});
   }
   for (const ChainPoint& c : tl)
     add_node(c);
@@ -488,7 +512,7 @@ DissectionGeometry measure_dissection(const mesh::Mesh& mesh, const geometry::La
 
 json to_json(const DissectionGeometry& g) {
   json j{{"format", "tearflow-rom-geometry"},
-         {"version", 3},
+         {"version", 4},
          {"mesh_digest", g.mesh_digest},
          {"wall_thickness_m", g.wall_thickness}};
   for (const GeometryNode& n : g.nodes)
@@ -509,16 +533,19 @@ json to_json(const DissectionGeometry& g) {
                              {"volume_m3", s.volume},
                              {"samples", s.samples}});
   for (const GeometryTear& t : g.tears)
-    j["tears"].push_back(
-        {{"name", t.name}, {"TL_node", t.tl_node}, {"FL_node", t.fl_node}, {"area_m2", t.area}});
+    j["tears"].push_back({{"name", t.name},
+                          {"TL_node", t.tl_node},
+                          {"FL_node", t.fl_node},
+                          {"area_m2", t.area},
+                          {"channel_area_m2", t.channel_area}});
   return j;
 }
 
 DissectionGeometry geometry_from_json(const json& j, const std::string& source) {
   DissectionGeometry g;
   try {
-    if (j.at("format") != "tearflow-rom-geometry" || j.at("version") != 3)
-      input_error("{}: not a tearflow-rom-geometry file of version 3", source);
+    if (j.at("format") != "tearflow-rom-geometry" || j.at("version") != 4)
+      input_error("{}: not a tearflow-rom-geometry file of version 4", source);
     g.mesh_digest = j.at("mesh_digest").get<std::string>();
     g.wall_thickness = j.at("wall_thickness_m").get<double>();
     for (const json& n : j.at("nodes"))
@@ -529,7 +556,8 @@ DissectionGeometry geometry_from_json(const json& j, const std::string& source) 
                             s.at("int_ds_over_A2_per_m3"), s.at("int_ds_over_A_per_m"),
                             s.at("int_ds_over_D_A2_per_m4"), s.at("volume_m3"), s.at("samples")});
     for (const json& t : j.at("tears"))
-      g.tears.push_back({t.at("name"), t.at("TL_node"), t.at("FL_node"), t.at("area_m2")});
+      g.tears.push_back({t.at("name"), t.at("TL_node"), t.at("FL_node"), t.at("area_m2"),
+                         t.at("channel_area_m2")});
   } catch (const json::exception& e) {
     input_error("{}: malformed reduced-order geometry ({})", source, e.what());
   }
@@ -561,7 +589,7 @@ DissectionGeometry model_geometry(const std::filesystem::path& model_dir, bool p
   if (std::filesystem::exists(file)) {
     std::ifstream in(file);
     json j = json::parse(in, nullptr, false);
-    if (!j.is_discarded() && j.value("mesh_digest", "") == digest && j.value("version", 0) == 3)
+    if (!j.is_discarded() && j.value("mesh_digest", "") == digest && j.value("version", 0) == 4)
       return geometry_from_json(j, file.string());
   }
   if (progress)

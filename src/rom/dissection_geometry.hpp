@@ -54,6 +54,11 @@ struct GeometrySegment {
 struct GeometryTear {
   std::string name, tl_node, fl_node;
   double area = 0.0; ///< [m^2], as the landmarks give it
+  /// The true lumen's area beside the tear, where the through-flow passes it (the mean of its
+  /// sections at the tear's rims) [m^2]. At an entry fed by the undivided aorta this is the
+  /// junction's flow area, not its TL node's (a landmark plane that also cuts the false
+  /// lumen's blind end above the tear).
+  double channel_area = 0.0;
 };
 
 struct DissectionGeometry {

@@ -117,6 +117,24 @@ bool is_arch(const GeometrySegment& s) {
   return s.lumen == "aorta" && (s.from == "AAo" || s.from.rfind("arch_", 0) == 0);
 }
 
+/// A dividing junction at a tear's TL node: the aorta segment that arrives there from an
+/// aorta node and the TL segment that leaves it (indices into the segments, -1 if none).
+struct Junction {
+  int approach = -1, onward = -1;
+};
+
+Junction entry_junction(const DissectionGeometry& g, int node) {
+  Junction j;
+  for (size_t i = 0; i < g.segments.size(); ++i) {
+    const GeometrySegment& s = g.segments[i];
+    if (g.node(s.to) == node && s.lumen == "aorta" && g.nodes[g.node(s.from)].lumen == "aorta")
+      j.approach = static_cast<int>(i);
+    if (g.node(s.from) == node && s.lumen == "TL")
+      j.onward = static_cast<int>(i);
+  }
+  return j;
+}
+
 } // namespace
 
 LumpedNetwork build_network(const DissectionGeometry& g, const RomInputs& in,
@@ -162,17 +180,22 @@ LumpedNetwork build_network(const DissectionGeometry& g, const RomInputs& in,
     e.inertance = in.density * (h + 1.7 * std::sqrt(a / M_PI)) / a;
     e.loss = k.tear_coefficient(t.name) * std::pow(a / t.area, k.size_exponent(t.name)) * 0.5 *
              in.density / (a * a);
-    // A tear the undivided aorta feeds (its TL node is the end of an aorta segment, the
-    // entry): the dividing flow's momentum loss, K_x rho/2 v_t |v_a|, v_a the through-flow
-    // approaching on that segment at its upstream node (file comment).
-    const int tl = g.node(t.tl_node);
-    for (size_t j = 0; j < g.segments.size() && k.tear_cross > 0.0; ++j) {
-      const GeometrySegment& s = g.segments[j];
-      const int from = g.node(s.from);
-      if (g.node(s.to) == tl && g.nodes[from].lumen == "aorta") {
-        e.cross_edge = static_cast<int>(j); // edges are the segments', in order
-        e.cross = k.tear_cross * 0.5 * in.density / (a * g.nodes[from].area);
-        break;
+    // A tear the undivided aorta feeds (its TL node ends an aorta segment: the entry) is a
+    // dividing junction (file comment): the approach segment arrives in the TL's channel
+    // beside the tear, the TL's segment onward regains the approaching flow's head, and the
+    // tear loses K_x rho/2 v_t |v_a| with v_a the approach velocity in that channel.
+    const Junction j = entry_junction(g, g.node(t.tl_node));
+    if (j.approach >= 0 && t.channel_area > 0.0) {
+      const double a_j = t.channel_area;
+      edges[j.approach].area_to = a_j; // edges are the segments', in order
+      if (j.onward >= 0) {
+        edges[j.onward].area_from = a_j;
+        edges[j.onward].regain_edge = j.approach;
+        edges[j.onward].regain = 0.5 * in.density / (a_j * a_j);
+      }
+      if (k.tear_cross > 0.0) {
+        e.cross_edge = j.approach;
+        e.cross = k.tear_cross * 0.5 * in.density / (a * a_j);
       }
     }
     edges.push_back(e);

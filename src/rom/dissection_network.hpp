@@ -5,7 +5,7 @@
 // for a 3D run (metrics.json, a CSV per landmark).
 //
 // Every segment (length l, section A(s)) is an edge with
-//   R = alpha 8 pi mu int ds / A^2           (Poiseuille; alpha calibrated),
+//   R = alpha 8 pi mu int ds / A^2           (Poiseuille; alpha >= 1 calibrated),
 //   L = rho int ds / A,                       (the blood's inertia)
 // and the Bernoulli and expansion terms between its end nodes' areas; a segment of the lumina
 // (TL, FL) adds Darcy's loss f rho/2 int ds / (D A^2) q|q| (D = 2 sqrt(A / pi); f calibrated,
@@ -15,13 +15,24 @@
 //   R = 8 pi mu h / A_t^2,  L = rho (h + 1.7 sqrt(A_t / pi)) / A_t  (the end corrections of a
 //   flanged hole, 0.85 r per side),  loss K_t (A_t / A_t0)^gamma rho / (2 A_t^2) q|q|, with
 //   A_t0 the model's own area of that tear (K_t calibrated; gamma only from runs of two
-//   sizes of a tear, else 0). A tear the undivided aorta feeds (the entry: its TL node ends an
-//   aorta segment) adds the dividing flow's loss
-//     K_x rho/2 v_t |v_a| = K_x rho / (2 A_t A_a) q |q_a|,  K_x = 2,
-//   q_a the flow approaching on that segment and A_a its upstream node's area: the flow turning
-//   through the flap leaves its share of the through-flow's momentum flux, rho v_a per unit of
-//   flux, in the flap. It is what makes a large entry tear lossier per velocity head than a
-//   small one (K_t + K_x v_a / v_t), as the 3D runs show and an orifice law alone cannot.
+//   sizes of a tear, else 0).
+// A tear the undivided aorta feeds (the entry: its TL node ends an aorta segment) makes that
+// node a dividing junction, where static pressure is not shared as at other nodes:
+//   - the approaching flow q_a arrives in the true lumen's channel beside the tear, of area A_j
+//     (GeometryTear::channel_area, the TL at the tear's rims), not in the node's landmark
+//     section (DAo_prox also cuts the false lumen's blind end above the tear): the approach
+//     segment's Bernoulli term runs to A_j, and the node's pressure is the static pressure
+//     beside the tear, lowered by the approaching flow's head rho/2 (q_a / A_j)^2;
+//   - the true lumen onward regains that head as its flow slows (total pressure carried
+//     through the junction, as 1D network models join vessels): its segment runs from the
+//     approach velocity to its own, -rho/2 (q_a^2 - q^2) / A_j^2 beyond its own Bernoulli
+//     term (NetworkEdge::regain). The 3D runs show it: at peak systole the TL's static
+//     pressure beside the entry is 4.1-4.2 mmHg below TL1's at 2 and 3 mm (2.2 at 4.5 mm);
+//   - the tear adds the dividing flow's loss
+//       K_x rho/2 v_t |v_a| = K_x rho / (2 A_t A_j) q |q_a|,  K_x = 2,
+//     the flow turning through the flap leaving its share of the through-flow's momentum flux,
+//     rho v_a per unit of flux, in the flap: a large entry tear loses more per velocity head
+//     than a small one (K_t + K_x v_a / v_t), as the 3D runs show and an orifice law cannot.
 // A compliant wall (a case with a solid) gives every node the compliance of its share of the
 // wall: over the node's length l_i (half its segments'), with r the equivalent radius of the
 // whole aortic section there (TL + FL at a station) and E' = E / (1 - nu^2) (hoop, plane
@@ -60,9 +71,10 @@ struct RomCoefficients {
   /// gamma 0 (K independent of size).
   std::map<std::string, double> tear_size;
   double size_exponent(const std::string& name) const;
-  /// K_x of the dividing flow's loss at a tear the undivided aorta feeds, K_x rho/2 v_t |v_a|:
-  /// 2, the through-flow's momentum rho v_a per unit of the tear's flux, lost as the flow
-  /// turns through the flap (a derived constant, not fitted: one tear size cannot tell it).
+  /// K_x of the dividing flow's loss at a tear the undivided aorta feeds, K_x rho/2 v_t |v_a|
+  /// with v_a the approach velocity in the TL's channel beside it: 2, the through-flow's
+  /// momentum rho v_a per unit of the tear's flux, lost as the flow turns through the flap (a
+  /// derived constant, not fitted: one tear size cannot tell it).
   double tear_cross = 2.0;
   double tear_coefficient(const std::string& name) const;
 };

@@ -58,6 +58,9 @@ LumpedNetwork::LumpedNetwork(std::vector<NetworkNode> nodes, std::vector<Network
     if (e.cross_edge >= static_cast<int>(edges_.size()) || !(e.cross >= 0.0))
       input_error("reduced-order network: edge {} has a cross-flow loss {} from edge {}", e.name,
                   e.cross, e.cross_edge);
+    if (e.regain_edge >= static_cast<int>(edges_.size()) || !(e.regain >= 0.0))
+      input_error("reduced-order network: edge {} has a junction regain {} from edge {}", e.name,
+                  e.regain, e.regain_edge);
     if (e.resistance == 0.0 && e.inertance == 0.0 && e.loss == 0.0 &&
         (e.area_from == 0.0 || e.area_to == 0.0))
       input_error("reduced-order network: edge {} has neither resistance, inertance nor loss",
@@ -194,6 +197,10 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       w.rhs(row) += edge.resistance * q + c * q * q - x(edge.from) + x(edge.to);
       if (edge.cross_edge >= 0)
         w.rhs(row) += edge.cross * q * std::abs(x(n_nodes + edge.cross_edge));
+      if (edge.regain_edge >= 0) {
+        const double qc = x(n_nodes + edge.regain_edge);
+        w.rhs(row) -= edge.regain * (qc * qc - q * q);
+      }
     }
     for (size_t o = 0; o < outlets_.size(); ++o) {
       const bc::WindkesselRCR& rcr = outlets_[o].rcr;
@@ -218,6 +225,11 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
         const int col = n_nodes + edge.cross_edge;
         w.jacobian(row, row) += edge.cross * std::abs(x(col));
         w.jacobian(row, col) += edge.cross * q * (x(col) >= 0.0 ? 1.0 : -1.0);
+      }
+      if (edge.regain_edge >= 0) {
+        const int col = n_nodes + edge.regain_edge;
+        w.jacobian(row, col) -= 2.0 * edge.regain * x(col);
+        w.jacobian(row, row) += 2.0 * edge.regain * q;
       }
     }
     for (size_t o = 0; o < outlets_.size(); ++o) {
