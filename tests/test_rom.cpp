@@ -354,6 +354,11 @@ TEST(RomModel, HeldOutVariantsAtThreeMillimetres) {
                    " --case " + ex_case.string() + " --run-model " + model.string() +
                    " --run-model " + (data / "EX-model").string());
   ASSERT_EQ(r.code, 0) << r.output;
+  // The fit's bounds hold: alpha >= 1 (Poiseuille's is the least) and the exit's size exponent
+  // within (-1, 1) (docs/rom.md, "Calibration").
+  const nlohmann::json fit = read_json(model / "rom" / "calibration.json")["rigid"]["coefficients"];
+  EXPECT_GE(fit["viscous_factor"].get<double>(), 1.0);
+  EXPECT_LT(std::abs(fit["tear_size_exponents"]["exit"].get<double>()), 1.0);
   const Stations en2 = predict("EN", en_case, "en-two-sizes");
   for (int k = 0; k < 5; ++k)
     expect_within_criterion(en2, en3d, k, "OR + EX -> EN");
