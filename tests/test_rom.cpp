@@ -66,12 +66,16 @@ Stations stored_stations(const std::string& variant, const rom::DissectionGeomet
   return s;
 }
 
+void print_station(const Stations& rom, const Stations& d3, int k, const std::string& what) {
+  std::printf("%s station %d: FR_FL %.1f (3D %.1f) %%, dP %.1f (3D %.1f) mmHg\n", what.c_str(),
+              k + 1, rom.fr[k], d3.fr[k], rom.dp[k], d3.dp[k]);
+}
+
 /// The criterion at one station: FR_FL within 5 points, peak-systolic dP within
 /// 3 mmHg or 20 %.
 void expect_within_criterion(const Stations& rom, const Stations& d3, int k,
                              const std::string& what) {
-  std::printf("%s station %d: FR_FL %.1f (3D %.1f) %%, dP %.1f (3D %.1f) mmHg\n", what.c_str(),
-              k + 1, rom.fr[k], d3.fr[k], rom.dp[k], d3.dp[k]);
+  print_station(rom, d3, k, what);
   EXPECT_NEAR(rom.fr[k], d3.fr[k], 5.0) << what << " station " << k + 1;
   EXPECT_NEAR(rom.dp[k], d3.dp[k], std::max(3.0, 0.2 * std::abs(d3.dp[k])))
       << what << " station " << k + 1;
@@ -86,6 +90,17 @@ Stations predicted_stations(const fs::path& metrics) {
     s.dp.push_back(st["dP_TL_minus_FL_peak_systole_mmHg"].get<double>());
   }
   return s;
+}
+
+/// `rom predict` of a held-out variant (EN: the entry at 62 mm^2, EX: the exit at 61) with its
+/// case into `out`; its stations.
+Stations predict_variant(const fs::path& model, const std::string& variant,
+                         const fs::path& case_file, const fs::path& out) {
+  const std::string area = variant == "EN" ? " --entry-tear-area 62" : " --exit-tear-area 61";
+  const Result p = run_tearflow("rom predict -q " + model.string() + " --case " +
+                                case_file.string() + area + " -o " + out.string());
+  EXPECT_EQ(p.code, 0) << p.output;
+  return predicted_stations(out / "analysis" / "metrics.json");
 }
 
 } // namespace
@@ -215,19 +230,13 @@ TEST(RomModel, EndToEndOnTheBuiltModel) {
   auto held_out = [&](const std::string& kind) {
     for (const std::string variant : {"EN", "EX"}) {
       const fs::path c = stored_case(variant, model, dir, kind);
-      const std::string area = variant == "EN" ? " --entry-tear-area 62" : " --exit-tear-area 61";
-      const fs::path out = dir / (kind + "-" + variant);
-      const Result p = run_tearflow("rom predict -q " + model.string() + " --case " + c.string() +
-                                    area + " -o " + out.string());
-      ASSERT_EQ(p.code, 0) << p.output;
       const Stations d3 = stored_stations(variant, g, c, kind);
-      const Stations d0 = predicted_stations(out / "analysis" / "metrics.json");
+      const Stations d0 = predict_variant(model, variant, c, dir / (kind + "-" + variant));
       for (int k = 0; k < 5; ++k)
         if (variant == "EX")
           expect_within_criterion(d0, d3, k, kind + " EX");
         else
-          std::printf("%s EN station %d: FR_FL %.1f (3D %.1f) %%, dP %.1f (3D %.1f) mmHg\n",
-                      kind.c_str(), k + 1, d0.fr[k], d3.fr[k], d0.dp[k], d3.dp[k]);
+          print_station(d0, d3, k, kind + " EN");
       std::fflush(stdout);
     }
   };
@@ -327,19 +336,13 @@ TEST(RomModel, HeldOutVariantsAtThreeMillimetres) {
   const fs::path or_case = stored_case("OR", model, dir, "rigid", data);
   const fs::path en_case = stored_case("EN", model, dir, "rigid", data);
   const fs::path ex_case = stored_case("EX", model, dir, "rigid", data);
-  auto predict = [&](const std::string& variant, const fs::path& c, const std::string& name) {
-    const std::string area = variant == "EN" ? " --entry-tear-area 62" : " --exit-tear-area 61";
-    const Result p = run_tearflow("rom predict -q " + model.string() + " --case " + c.string() +
-                                  area + " -o " + (dir / name).string());
-    EXPECT_EQ(p.code, 0) << p.output;
-    return predicted_stations(dir / name / "analysis" / "metrics.json");
-  };
   Result r = run_tearflow("rom calibrate " + model.string() + " --run " +
                           (data / "OR-rigid").string() + " --case " + or_case.string());
   ASSERT_EQ(r.code, 0) << r.output;
   const Stations en3d = stored_stations("EN", g, en_case, "rigid", data);
   const Stations ex3d = stored_stations("EX", g, ex_case, "rigid", data);
-  const Stations en = predict("EN", en_case, "en"), ex = predict("EX", ex_case, "ex");
+  const Stations en = predict_variant(model, "EN", en_case, dir / "en"),
+                 ex = predict_variant(model, "EX", ex_case, dir / "ex");
   for (int k = 0; k < 5; ++k) {
     expect_within_criterion(en, en3d, k, "OR -> EN");
     if (k != 3) {
@@ -359,7 +362,7 @@ TEST(RomModel, HeldOutVariantsAtThreeMillimetres) {
   const nlohmann::json fit = read_json(model / "rom" / "calibration.json")["rigid"]["coefficients"];
   EXPECT_GE(fit["viscous_factor"].get<double>(), 1.0);
   EXPECT_LT(std::abs(fit["tear_size_exponents"]["exit"].get<double>()), 1.0);
-  const Stations en2 = predict("EN", en_case, "en-two-sizes");
+  const Stations en2 = predict_variant(model, "EN", en_case, dir / "en-two-sizes");
   for (int k = 0; k < 5; ++k)
     expect_within_criterion(en2, en3d, k, "OR + EX -> EN");
   fs::remove_all(dir);

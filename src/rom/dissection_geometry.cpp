@@ -510,9 +510,13 @@ DissectionGeometry measure_dissection(const mesh::Mesh& mesh, const geometry::La
   return g;
 }
 
+/// 4: each tear's channel area (the entry's dividing junction). A file of another version was
+/// measured for another network and is measured again.
+constexpr int kGeometryVersion = 4;
+
 json to_json(const DissectionGeometry& g) {
   json j{{"format", "tearflow-rom-geometry"},
-         {"version", 4},
+         {"version", kGeometryVersion},
          {"mesh_digest", g.mesh_digest},
          {"wall_thickness_m", g.wall_thickness}};
   for (const GeometryNode& n : g.nodes)
@@ -544,8 +548,8 @@ json to_json(const DissectionGeometry& g) {
 DissectionGeometry geometry_from_json(const json& j, const std::string& source) {
   DissectionGeometry g;
   try {
-    if (j.at("format") != "tearflow-rom-geometry" || j.at("version") != 4)
-      input_error("{}: not a tearflow-rom-geometry file of version 4", source);
+    if (j.at("format") != "tearflow-rom-geometry" || j.at("version") != kGeometryVersion)
+      input_error("{}: not a tearflow-rom-geometry file of version {}", source, kGeometryVersion);
     g.mesh_digest = j.at("mesh_digest").get<std::string>();
     g.wall_thickness = j.at("wall_thickness_m").get<double>();
     for (const json& n : j.at("nodes"))
@@ -564,6 +568,10 @@ DissectionGeometry geometry_from_json(const json& j, const std::string& source) 
   for (const GeometrySegment& s : g.segments)
     if (g.node(s.from) < 0 || g.node(s.to) < 0)
       input_error("{}: segment {} -> {} names an unknown node", source, s.from, s.to);
+  for (const GeometryTear& t : g.tears)
+    if (!(t.channel_area > 0.0)) // NaN too: the entry's junction would be left out silently
+      input_error("{}: tear {} has channel_area_m2 {} (expected > 0)", source, t.name,
+                  t.channel_area);
   return g;
 }
 
@@ -589,7 +597,8 @@ DissectionGeometry model_geometry(const std::filesystem::path& model_dir, bool p
   if (std::filesystem::exists(file)) {
     std::ifstream in(file);
     json j = json::parse(in, nullptr, false);
-    if (!j.is_discarded() && j.value("mesh_digest", "") == digest && j.value("version", 0) == 4)
+    if (!j.is_discarded() && j.value("mesh_digest", "") == digest &&
+        j.value("version", 0) == kGeometryVersion)
       return geometry_from_json(j, file.string());
   }
   if (progress)
