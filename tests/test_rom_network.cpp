@@ -59,31 +59,6 @@ TEST(RomNetwork, SteadyOrificeAndBernoulliAreExact) {
   EXPECT_NEAR(b.pressure.back()[0], expected_back, 1e-9 * std::abs(expected_back));
 }
 
-TEST(RomNetwork, CrossFlowLossFollowsTheOtherEdgesFlow) {
-  // The through-flow Q arrives on edge 0 and divides at node 1 into a tear (edge 1, loss k and
-  // the cross-flow loss m q_t |q_0|) and a lumen (edge 2, resistance r), each to its own
-  // resistance outlet. Steady: the tear's drop p_1 - p_2 must be k q_t^2 + m q_t |Q| to Newton's
-  // tolerance, with Q the through-flow, not the tear's own flow (which would give (k + m)
-  // q_t^2, 30 % off here); flows balance exactly. Both directions.
-  const double q = 2e-4, k = 2e9, m = 3e9, r = 4e6;
-  NetworkEdge through{"through", 0, 1, 1e5}, tear{"tear", 1, 2, 0.0, 0.0, k},
-      lumen{"lumen", 1, 3, r};
-  tear.cross_edge = 0, tear.cross = m;
-  for (const double sign : {1.0, -1.0}) {
-    const LumpedNetwork net({{"in", 0.0}, {"a", 0.0}, {"t", 0.0}, {"l", 0.0}},
-                            {through, tear, lumen}, {},
-                            {{"ot", 2, {3e7, 0.0, 0.0, 0.0}}, {"ol", 3, {1e8, 0.0, 0.0, 0.0}}}, 0,
-                            steady(sign * q), kRho);
-    const NetworkSolution s = net.periodic(0.0, {0.0, 0.0}, {40, 4, 30, 1e-6, 1e-12});
-    const std::vector<double>&p = s.pressure.back(), &f = s.flow.back();
-    const double expected = k * f[1] * std::abs(f[1]) + m * f[1] * std::abs(f[0]);
-    EXPECT_NEAR(p[1] - p[2], expected, 1e-9 * std::abs(expected)) << "direction " << sign;
-    EXPECT_NEAR(f[0], sign * q, 1e-12 * q);
-    EXPECT_NEAR(f[1] + f[2], f[0], 1e-12 * q);
-    EXPECT_GT(std::abs(f[1]), 0.3 * q); // the tear carries a real share
-  }
-}
-
 TEST(RomNetwork, JunctionRegainCarriesTotalPressureOnward) {
   // The through-flow Q arrives on edge 0 (areas A_0 -> A_j) at a junction (node 1) and
   // divides into a side branch (edge 1, an orifice) and a lumen onward (edge 2, resistance r,
@@ -200,9 +175,9 @@ TEST(RomNetwork, BadNetworksAreClearErrors) {
                InputError); // a capacitor without distal resistance
   EXPECT_THROW(LumpedNetwork({{"a", 0.0}}, {}, {}, {}, 0, bc::Waveform::constant(1.0), kRho),
                InputError); // no period
-  NetworkEdge crossed{"c", 0, 1, 1.0};
-  crossed.cross_edge = 5, crossed.cross = 1.0; // no edge 5
-  EXPECT_THROW(LumpedNetwork({{"a", 0.0}, {"b", 0.0}}, {crossed}, {}, {}, 0, q, kRho), InputError);
+  NetworkEdge regained{"c", 0, 1, 1.0};
+  regained.regain_edge = 5, regained.regain = 1.0; // no edge 5
+  EXPECT_THROW(LumpedNetwork({{"a", 0.0}, {"b", 0.0}}, {regained}, {}, {}, 0, q, kRho), InputError);
   try {
     LumpedNetwork({{"a", 0.0}, {"b", 0.0}}, {{"e", 0, 1, std::nan("")}}, {}, {}, 0, q, kRho);
     FAIL() << "a NaN resistance was accepted";

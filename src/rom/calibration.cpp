@@ -313,9 +313,10 @@ json fit_json(const CalibrationFit& f) {
 
 /// 2: the tear nodes measured at the tears' rims and the entry's dividing-flow loss; 3: the
 /// flap's width its chord, not the diameter; 4: the entry's dividing junction (its channel
-/// area and the TL's regain) and alpha >= 1. A fit of an earlier version was made for another
-/// network.
-constexpr int kCalibrationVersion = 4;
+/// area and the TL's regain) and alpha >= 1; 5: the exit's combining junction, the tears in
+/// series with the TL's channel, no dividing-flow loss, and DAo_prox's section pressure. A fit
+/// of an earlier version was made for another network.
+constexpr int kCalibrationVersion = 5;
 
 std::filesystem::path calibration_file(const std::filesystem::path& model_dir) {
   return model_dir / "rom" / "calibration.json";

@@ -117,12 +117,14 @@ bool is_arch(const GeometrySegment& s) {
   return s.lumen == "aorta" && (s.from == "AAo" || s.from.rfind("arch_", 0) == 0);
 }
 
-/// A dividing junction at a tear's TL node: the aorta segment that arrives there from an
-/// aorta node and the TL segment that leaves it (indices into the segments, -1 if none).
+/// A junction at a tear's TL node: the segment whose flow arrives there in the TL's channel
+/// and the segment that leads on (indices into the segments, -1 if none).
 struct Junction {
   int approach = -1, onward = -1;
 };
 
+/// A dividing junction (the entry): the aorta segment that arrives from an aorta node and the
+/// TL segment that leaves.
 Junction entry_junction(const DissectionGeometry& g, int node) {
   Junction j;
   for (size_t i = 0; i < g.segments.size(); ++i) {
@@ -130,6 +132,21 @@ Junction entry_junction(const DissectionGeometry& g, int node) {
     if (g.node(s.to) == node && s.lumen == "aorta" && g.nodes[g.node(s.from)].lumen == "aorta")
       j.approach = static_cast<int>(i);
     if (g.node(s.from) == node && s.lumen == "TL")
+      j.onward = static_cast<int>(i);
+  }
+  return j;
+}
+
+/// A combining junction at a tear's TL node (the exit, where the FL's flow rejoins): the TL
+/// segment that arrives there (the run) and the segment that leaves it for an aorta node (the
+/// combined flow onward); indices into the segments, -1 if none.
+Junction exit_junction(const DissectionGeometry& g, int node) {
+  Junction j;
+  for (size_t i = 0; i < g.segments.size(); ++i) {
+    const GeometrySegment& s = g.segments[i];
+    if (g.node(s.to) == node && s.lumen == "TL")
+      j.approach = static_cast<int>(i);
+    if (g.node(s.from) == node && g.nodes[g.node(s.to)].lumen == "aorta")
       j.onward = static_cast<int>(i);
   }
   return j;
@@ -178,24 +195,24 @@ LumpedNetwork build_network(const DissectionGeometry& g, const RomInputs& in,
     NetworkEdge e{"tear_" + t.name, g.node(t.tl_node), g.node(t.fl_node)};
     e.resistance = 8.0 * M_PI * in.viscosity * h / (a * a);
     e.inertance = in.density * (h + 1.7 * std::sqrt(a / M_PI)) / a;
+    // The tear and the TL's channel beside it in series (file comment).
+    const double a_j = t.channel_area > 0.0 ? t.channel_area : a;
     e.loss = k.tear_coefficient(t.name) * std::pow(a / t.area, k.size_exponent(t.name)) * 0.5 *
-             in.density / (a * a);
+             in.density * (1.0 / (a * a) + 1.0 / (a_j * a_j));
     // A tear the undivided aorta feeds (its TL node ends an aorta segment: the entry) is a
-    // dividing junction (file comment): the approach segment arrives in the TL's channel
-    // beside the tear, the TL's segment onward regains the approaching flow's head, and the
-    // tear loses K_x rho/2 v_t |v_a| with v_a the approach velocity in that channel.
-    const Junction j = entry_junction(g, g.node(t.tl_node));
+    // dividing junction, one that leads on into it (the exit) a combining one (file
+    // comment). Either way the node is the TL's channel beside the tear, and the segment
+    // onward carries the head of the flow that arrives there in the channel: the aorta's
+    // approaching flow at the entry, the TL's own at the exit.
+    Junction j = entry_junction(g, g.node(t.tl_node));
+    if (j.approach < 0)
+      j = exit_junction(g, g.node(t.tl_node));
     if (j.approach >= 0 && t.channel_area > 0.0) {
-      const double a_j = t.channel_area;
       edges[j.approach].area_to = a_j; // edges are the segments', in order
       if (j.onward >= 0) {
         edges[j.onward].area_from = a_j;
         edges[j.onward].regain_edge = j.approach;
         edges[j.onward].regain = 0.5 * in.density / (a_j * a_j);
-      }
-      if (k.tear_cross > 0.0) {
-        e.cross_edge = j.approach;
-        e.cross = k.tear_cross * 0.5 * in.density / (a * a_j);
       }
     }
     edges.push_back(e);
@@ -226,6 +243,15 @@ analysis::Analysis network_analysis(const LumpedNetwork& net, const NetworkSolut
     if (i < 0)
       continue;
     analysis::LandmarkSeries series{l, {}};
+    // The entry's TL node is a landmark plane that cuts both the TL's channel beside the tear
+    // (A_j, where the node's pressure is) and the FL's blind end above it (the rest of the
+    // section, at the FL's pressure beside the tear): the section's mean pressure, as
+    // `analyze` measures it in a 3D run, is their area-weighted mean.
+    const GeometryTear* blind = nullptr;
+    for (const GeometryTear& t : g.tears)
+      if (g.node(t.tl_node) == i && entry_junction(g, i).approach >= 0 && t.channel_area > 0.0 &&
+          t.channel_area < g.nodes[i].area)
+        blind = &t;
     for (size_t f = 0; f < frames; ++f) {
       const size_t m = f % s.time.size();
       double in_flow = 0.0, out_flow = 0.0;
@@ -247,6 +273,10 @@ analysis::Analysis network_analysis(const LumpedNetwork& net, const NetworkSolut
       const double dp = n.partner.empty() ? 0.0 : p - s.pressure[m][g.node(n.partner)];
       v.area = n.area + law[i].outer * p + (n.lumen == "FL" ? -1.0 : 1.0) * law[i].flap * dp;
       v.pressure = p;
+      if (blind) {
+        const double w = blind->channel_area / n.area; // the channel's share of the section
+        v.pressure = w * p + (1.0 - w) * s.pressure[m][g.node(blind->fl_node)];
+      }
       v.max_velocity = std::nan("");
       v.wall_displacement = std::nan("");
       series.samples.push_back(v);
@@ -314,13 +344,9 @@ Prediction predict(const DissectionGeometry& g, const RomInputs& in, const RomCo
 }
 
 json to_json(const RomCoefficients& k) {
-  json j{{"viscous_factor", k.viscous},
-         {"friction_factor", k.friction},
-         {"arch_loss_coefficient", k.arch_loss},
-         {"flap_compliance_factor", k.flap},
-         {"tear_loss_coefficient", k.tear_loss},
-         {"tear_cross_coefficient", k.tear_cross},
-         {"tears", json::object()},
+  json j{{"viscous_factor", k.viscous},          {"friction_factor", k.friction},
+         {"arch_loss_coefficient", k.arch_loss}, {"flap_compliance_factor", k.flap},
+         {"tear_loss_coefficient", k.tear_loss}, {"tears", json::object()},
          {"tear_size_exponents", json::object()}};
   for (const auto& [name, value] : k.tear)
     j["tears"][name] = value;
@@ -343,7 +369,6 @@ RomCoefficients coefficients_from_json(const json& j, const std::string& source)
   number("arch_loss_coefficient", k.arch_loss);
   number("flap_compliance_factor", k.flap);
   number("tear_loss_coefficient", k.tear_loss);
-  number("tear_cross_coefficient", k.tear_cross);
   if (j.contains("tear_size_exponents")) { // may be negative
     if (!j["tear_size_exponents"].is_object())
       input_error("{}: 'tear_size_exponents' must map tear names to exponents", source);

@@ -11,11 +11,18 @@
 // (TL, FL) adds Darcy's loss f rho/2 int ds / (D A^2) q|q| (D = 2 sqrt(A / pi); f calibrated,
 // 0 uncalibrated: the developing, pulsatile flow's losses above Poiseuille's). The arch (AAo to
 // DAo_prox) adds a loss K_arch rho / (2 A_AAo^2) q|q|, shared over its segments. A tear of
-// area A_t in a flap of thickness h is an orifice:
+// area A_t in a flap of thickness h, beside the TL's channel of area A_j, is an orifice:
 //   R = 8 pi mu h / A_t^2,  L = rho (h + 1.7 sqrt(A_t / pi)) / A_t  (the end corrections of a
-//   flanged hole, 0.85 r per side),  loss K_t (A_t / A_t0)^gamma rho / (2 A_t^2) q|q|, with
-//   A_t0 the model's own area of that tear (K_t calibrated; gamma only from runs of two
-//   sizes of a tear, else 0).
+//   flanged hole, 0.85 r per side),
+//   loss K_t (A_t / A_t0)^gamma rho/2 (1 / A_t^2 + 1 / A_j^2) q|q|,
+// with A_t0 the model's own area of that tear (K_t calibrated; gamma only from runs of two
+// sizes of a tear, else 0). The flow through a tear passes the channel beside it as well: a
+// tear as large as the channel cannot take its flow faster than the channel brings it, so
+// the tear and the channel are two openings in series, each losing K_t heads of its own
+// velocity (the channel's term is 0.05 of the tear's at 62 mm^2, 0.66 at 228 mm^2). Fitted to
+// each TL-resolved 3D run alone (3 mm, six elements across the TL), the entry's K_t at
+// 228 mm^2 is 2.62 (OR) and 2.61 (EX), at 62 mm^2 1.88: with the tear's term alone it was
+// 4.36 / 4.33 against 1.97, a size dependence one tear size cannot calibrate.
 // A tear the undivided aorta feeds (the entry: its TL node ends an aorta segment) makes that
 // node a dividing junction, where static pressure is not shared as at other nodes:
 //   - the approaching flow q_a arrives in the true lumen's channel beside the tear, of area A_j
@@ -28,11 +35,22 @@
 //     approach velocity to its own, -rho/2 (q_a^2 - q^2) / A_j^2 beyond its own Bernoulli
 //     term (NetworkEdge::regain). The 3D runs show it: at peak systole the TL's static
 //     pressure beside the entry is 4.1-4.2 mmHg below TL1's at 2 and 3 mm (2.2 at 4.5 mm);
-//   - the tear adds the dividing flow's loss
-//       K_x rho/2 v_t |v_a| = K_x rho / (2 A_t A_j) q |q_a|,  K_x = 2,
-//     the flow turning through the flap leaving its share of the through-flow's momentum flux,
-//     rho v_a per unit of flux, in the flap: a large entry tear loses more per velocity head
-//     than a small one (K_t + K_x v_a / v_t), as the 3D runs show and an orifice law cannot.
+//   - the entry's landmark (DAo_prox) cuts the channel (A_j) and the false lumen's blind end
+//     above the tear (the rest of its section, at the FL's pressure beside the tear): its
+//     section pressure, as `analyze` measures it in a 3D run, is their area-weighted mean
+//     (network_analysis). In EN (a 62 mm^2 entry) the two differ by ~30 mmHg at peak systole;
+//   - the tear's loss does not depend on how the flow divides: fitted to each TL-resolved run
+//     alone, the entry's K_t is the same in OR and EX (2.62 / 2.61) although EX sends 1.5
+//     times the TL flow past it. (A loss K_x rho/2 v_t |v_a| with the approach velocity, as
+//     the network had before, made them 2.11 / 1.60.)
+// A tear whose TL node leads on into the undivided aorta (the exit) makes that node a
+// combining junction: its pressure is the static pressure in the TL's channel beside the
+// tear (A_j), where only the TL's own flow q_r passes, and the combined flow onward starts
+// from that flow's head, rho/2 (q_r / A_j)^2, not from its own in the channel (the onward
+// segment's regain from the TL's edge, NetworkEdge::regain). The FL's flow through the tear
+// joins with its own head lost in the tear. Without it the exit's K_t fitted to OR (227
+// mm^2) was 3.1, to EX (61 mm^2) 2.1: the network took the combined flow's head from the
+// channel's static pressure, and the fit charged a large exit for it.
 // A compliant wall (a case with a solid) gives every node the compliance of its share of the
 // wall: over the node's length l_i (half its segments'), with r the equivalent radius of the
 // whole aortic section there (TL + FL at a station) and E' = E / (1 - nu^2) (hoop, plane
@@ -71,11 +89,6 @@ struct RomCoefficients {
   /// gamma 0 (K independent of size).
   std::map<std::string, double> tear_size;
   double size_exponent(const std::string& name) const;
-  /// K_x of the dividing flow's loss at a tear the undivided aorta feeds, K_x rho/2 v_t |v_a|
-  /// with v_a the approach velocity in the TL's channel beside it: 2, the through-flow's
-  /// momentum rho v_a per unit of the tear's flux, lost as the flow turns through the flap (a
-  /// derived constant, not fitted: one tear size cannot tell it).
-  double tear_cross = 2.0;
   double tear_coefficient(const std::string& name) const;
 };
 

@@ -55,9 +55,6 @@ LumpedNetwork::LumpedNetwork(std::vector<NetworkNode> nodes, std::vector<Network
       input_error("reduced-order network: edge {} has a negative or NaN parameter (R {}, L {}, "
                   "k {}, areas {} / {})",
                   e.name, e.resistance, e.inertance, e.loss, e.area_from, e.area_to);
-    if (e.cross_edge >= static_cast<int>(edges_.size()) || !(e.cross >= 0.0))
-      input_error("reduced-order network: edge {} has a cross-flow loss {} from edge {}", e.name,
-                  e.cross, e.cross_edge);
     if (e.regain_edge >= static_cast<int>(edges_.size()) || !(e.regain >= 0.0))
       input_error("reduced-order network: edge {} has a junction regain {} from edge {}", e.name,
                   e.regain, e.regain_edge);
@@ -195,8 +192,6 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       const double c = q >= 0.0 ? convection_[e].forward : -convection_[e].backward;
       w.rhs(edge.from) += q, w.rhs(edge.to) -= q;
       w.rhs(row) += edge.resistance * q + c * q * q - x(edge.from) + x(edge.to);
-      if (edge.cross_edge >= 0)
-        w.rhs(row) += edge.cross * q * std::abs(x(n_nodes + edge.cross_edge));
       if (edge.regain_edge >= 0) {
         const double qc = x(n_nodes + edge.regain_edge);
         w.rhs(row) -= edge.regain * (qc * qc - q * q);
@@ -221,11 +216,6 @@ NetworkSolution LumpedNetwork::periodic(double start_pressure,
       w.jacobian(edge.from, row) += 1.0, w.jacobian(edge.to, row) -= 1.0;
       w.jacobian(row, row) += edge.resistance + 2.0 * c * q;
       w.jacobian(row, edge.from) -= 1.0, w.jacobian(row, edge.to) += 1.0;
-      if (edge.cross_edge >= 0) {
-        const int col = n_nodes + edge.cross_edge;
-        w.jacobian(row, row) += edge.cross * std::abs(x(col));
-        w.jacobian(row, col) += edge.cross * q * (x(col) >= 0.0 ? 1.0 : -1.0);
-      }
       if (edge.regain_edge >= 0) {
         const int col = n_nodes + edge.regain_edge;
         w.jacobian(row, col) -= 2.0 * edge.regain * x(col);

@@ -7,15 +7,14 @@
 // distal pressure P_d,o of every outlet with a capacitor. The equations (a DAE):
 //   node i:   Q_in delta_i,in + sum_{e into i} q_e - sum_{e out of i} q_e - sum_{o at i} Q_o
 //               - C_i dp_i/dt - sum_{couplings (i,j)} C_ij d(p_i - p_j)/dt = 0,
-//   edge e:   p_from - p_to = R_e q_e + L_e dq_e/dt + B_e(q_e) [+ m_e q_e |q_c|]
-//                              [- h_e (q_c^2 - q_e^2)],
+//   edge e:   p_from - p_to = R_e q_e + L_e dq_e/dt + B_e(q_e) [- h_e (q_c^2 - q_e^2)],
 //   outlet o: C_o dP_d,o/dt = Q_o - (P_d,o - P_ref,o) / R_d,o,  Q_o = (p_i - P_d,o) / R_p,o,
 // with the convective term of an edge (Bernoulli between its end areas, a Borda-Carnot loss
 // on expansion, and a loss coefficient k_e):
 //   B_e(q) = c_e^+ q^2 (q >= 0),  -c_e^- q^2 (q < 0),  c^+ = rho/2 (1/A_to^2 - 1/A_from^2)
 //            + rho/2 max(0, 1/A_from - 1/A_to)^2 + k_e, and c^- the same with from <-> to;
-// the bracketed terms couple an edge to another's flow q_c at a dividing junction: a side
-// branch's cross-flow loss (m_e) and a through-branch's static regain (h_e), NetworkEdge.
+// the bracketed term couples an edge to another's flow q_c at a junction: the head of the
+// flow arriving there carried onward (h_e), NetworkEdge.
 // A coupling is a compliant membrane between two nodes (the flap between the lumina): volume
 // that one node gains the other loses. An outlet without a capacitor is a resistance
 // R_p + R_d to P_ref.
@@ -46,10 +45,6 @@ struct NetworkEdge {
   double loss = 0.0;       ///< k, added to both directions' coefficient [Pa s^2/m^6]
   /// End areas for the Bernoulli and expansion terms [m^2]; 0: no convective term.
   double area_from = 0.0, area_to = 0.0;
-  /// A cross-flow loss m q |q_c| driven by another edge's flow q_c (a tear beside the lumen's
-  /// through-flow); none when `cross_edge` < 0. [Pa s^2/m^6]
-  int cross_edge = -1;
-  double cross = 0.0;
   /// A junction's static regain: the kinetic head rho/2 (q_c / A_j)^2 of the flow q_c
   /// approaching the junction on edge `regain_edge` is recovered along this edge as the flow
   /// slows to its own q: adds -h (q_c^2 - q^2), h = rho / (2 A_j^2), with `area_from` = A_j, so
