@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The reduced-order model against held-out 3D variants of a study; prints JSON.
 
-usage: bench/rom_accuracy.py STUDY_OUTPUT [STUDY_OUTPUT ...]
+usage: bench/rom_accuracy.py STUDY_OUTPUT [STUDY_OUTPUT ...] [--also STUDY_OUTPUT]
 
 For each finished study output folder with the variants OR, EN and EX (or those of them it holds;
 a calibration or prediction that needs a missing one is left out) (the main job's
@@ -13,6 +13,11 @@ and predicts each variant left out with its own case (its tuned outlets) and OR'
 the tear resized (as `rom sweep` does), comparing with the variant's 3D analysis: FR_FL per
 station and the peak-systolic dP per station. `pass` applies the issue's criterion: FR_FL within
 5 points at every station and dP within 3 mmHg or 20 % at every station.
+
+--also names a study of other tear sizes of the same geometry (any variant names, e.g.
+study-rigid-3mm-n6-mid.yaml's EN120 and EX120): each of its variants is predicted too, from
+every calibration of the (first) study above, its tears resized to the areas its own
+geometry/landmarks.json declares.
 """
 import json, os, shutil, subprocess, sys, tempfile
 
@@ -33,9 +38,28 @@ def case_of(study, variant, kind):
             else os.path.join(study, variant, "rigid.yaml"))
 
 
+def declared_areas(study, variant):
+    """`--tear-area NAME=MM2` for each tear of a variant's own model."""
+    lm = json.load(open(os.path.join(study, variant, "geometry", "landmarks.json")))
+    args = []
+    for t in lm.get("tears", []):
+        args += ["--tear-area", f"{t['name']}={t['area']:g}"]
+    return args
+
+
 def main():
     out = []
-    for study in sys.argv[1:]:
+    argv = sys.argv[1:]
+    also = None
+    if "--also" in argv:
+        i = argv.index("--also")
+        if i + 1 >= len(argv) or argv[i + 1].startswith("-"):
+            sys.exit("usage: bench/rom_accuracy.py STUDY_OUTPUT [...] [--also STUDY_OUTPUT]")
+        also = argv[i + 1]
+        argv = argv[:i] + argv[i + 2:]
+    if not argv or any(a.startswith("-") for a in argv):
+        sys.exit("usage: bench/rom_accuracy.py STUDY_OUTPUT [...] [--also STUDY_OUTPUT]")
+    for study in argv:
         tmp = tempfile.mkdtemp(prefix="tearflow-rom-accuracy-")
         model = os.path.join(tmp, "OR")
         os.makedirs(model)
@@ -56,17 +80,21 @@ def main():
                 if os.path.exists(os.path.join(model, "rom", "calibration.json")):
                     os.remove(os.path.join(model, "rom", "calibration.json"))
                 subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-                for v in ("EN", "EX"):
-                    if v in calibrated_on or v not in have:
-                        continue
-                    pred = os.path.join(tmp, f"{kind}-{'-'.join(calibrated_on)}-{v}")
+                targets = [(study, v, AREA[v]) for v in ("EN", "EX")
+                           if v not in calibrated_on and v in have]
+                if also and study == argv[0]:
+                    targets += [(also, v, declared_areas(also, v)) for v in sorted(os.listdir(also))
+                                if os.path.isdir(os.path.join(also, v, kind, "analysis"))]
+                for source, v, area in targets:
+                    pred = os.path.join(tmp, f"{kind}-{'-'.join(calibrated_on)}-"
+                                        f"{os.path.basename(os.path.normpath(source))}-{v}")
                     subprocess.run([BIN, "rom", "predict", "-q", model, "--case",
-                                    case_of(study, v, kind), *AREA[v], "-o", pred], check=True)
+                                    case_of(source, v, kind), *area, "-o", pred], check=True)
                     fr, dp = stations(os.path.join(pred, "analysis", "metrics.json"))
-                    fr3, dp3 = stations(os.path.join(study, v, kind, "analysis", "metrics.json"))
+                    fr3, dp3 = stations(os.path.join(source, v, kind, "analysis", "metrics.json"))
                     fr_err = max(abs(a - b) for a, b in zip(fr, fr3))
                     dp_ok = all(abs(a - b) <= max(3.0, 0.2 * abs(b)) for a, b in zip(dp, dp3))
-                    out.append({"study": study, "walls": kind, "calibrated_on": calibrated_on,
+                    out.append({"study": source, "walls": kind, "calibrated_on": calibrated_on,
                                 "predicted": v, "FR_FL_rom": [round(x, 1) for x in fr],
                                 "FR_FL_3d": [round(x, 1) for x in fr3],
                                 "FR_FL_max_error_points": round(fr_err, 1),

@@ -6,6 +6,7 @@
 // deterministic), about 20 s.
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <stdexcept>
 
@@ -94,11 +95,20 @@ Stations predicted_stations(const fs::path& metrics) {
   return s;
 }
 
-/// `rom predict` of a held-out variant (EN: the entry at 62 mm^2, EX: the exit at 61) with its
-/// case into `out`; its stations.
+/// `rom predict` of a held-out variant (EN: the entry at 62 mm^2, EX: the exit at 61, EN120 and
+/// EX120: the entry or the exit at 120) with its case into `out`; its stations.
 Stations predict_variant(const fs::path& model, const std::string& variant,
                          const fs::path& case_file, const fs::path& out) {
-  const std::string area = variant == "EN" ? " --entry-tear-area 62" : " --exit-tear-area 61";
+  const std::map<std::string, std::string> areas{{"EN", " --entry-tear-area 62"},
+                                                 {"EX", " --exit-tear-area 61"},
+                                                 {"EN120", " --entry-tear-area 120"},
+                                                 {"EX120", " --exit-tear-area 120"}};
+  const auto it = areas.find(variant);
+  if (it == areas.end()) {
+    ADD_FAILURE() << "no tear areas for variant " << variant;
+    return {};
+  }
+  const std::string& area = it->second;
   const Result p = run_tearflow("rom predict -q " + model.string() + " --case " +
                                 case_file.string() + area + " -o " + out.string());
   EXPECT_EQ(p.code, 0) << p.output;
@@ -366,6 +376,8 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   // station 4, 4.0 mmHg off (-13.5 against -17.5) where the criterion allows 3.5. They are
   // held to their measured errors and the fit's residual (rms ~0.7 mmHg or 0.35 point): 6
   // points and 5 mmHg, so that a regression shows, and stay in docs/rom.md's table as not met.
+  // Between the study's sizes (EN120, EX120: the entry or the exit at 120 mm^2, runs made
+  // after the network was settled) OR alone meets the criterion: 2.9 and 0.4 points.
   const fs::path dir = fresh_dir("rom-3mm-n6");
   const fs::path model = dir / "OR";
   const fs::path data = kData / "3mm-n6";
@@ -377,6 +389,8 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   const fs::path or_case = stored_case("OR", model, dir, "rigid", data);
   const fs::path en_case = stored_case("EN", model, dir, "rigid", data);
   const fs::path ex_case = stored_case("EX", model, dir, "rigid", data);
+  const fs::path en120_case = stored_case("EN120", model, dir, "rigid", data);
+  const fs::path ex120_case = stored_case("EX120", model, dir, "rigid", data);
   auto calibrate = [&](const std::vector<std::string>& variants) {
     std::string args = "rom calibrate " + model.string();
     for (const std::string& v : variants)
@@ -390,8 +404,10 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   };
   const Stations en3d = stored_stations("EN", g, en_case, "rigid", data);
   const Stations ex3d = stored_stations("EX", g, ex_case, "rigid", data);
+  const Stations en120_3d = stored_stations("EN120", g, en120_case, "rigid", data);
+  const Stations ex120_3d = stored_stations("EX120", g, ex120_case, "rigid", data);
 
-  calibrate({"OR"});
+  ASSERT_NO_FATAL_FAILURE(calibrate({"OR"}));
   const Stations en = predict_variant(model, "EN", en_case, dir / "en"),
                  ex = predict_variant(model, "EX", ex_case, dir / "ex");
   for (int k = 0; k < 5; ++k) {
@@ -408,7 +424,14 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
     }
   }
 
-  calibrate({"OR", "EX"});
+  const Stations en120 = predict_variant(model, "EN120", en120_case, dir / "en120"),
+                 ex120 = predict_variant(model, "EX120", ex120_case, dir / "ex120");
+  for (int k = 0; k < 5; ++k) {
+    expect_within_criterion(en120, en120_3d, k, "OR -> EN120");
+    expect_within_criterion(ex120, ex120_3d, k, "OR -> EX120");
+  }
+
+  ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EX"}));
   // The fit's bounds hold: alpha >= 1 (Poiseuille's is the least) and the exit's size exponent
   // within (-1, 1) (docs/rom.md, "Calibration").
   const nlohmann::json fit = read_json(model / "rom" / "calibration.json")["rigid"]["coefficients"];
@@ -418,7 +441,7 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   for (int k = 0; k < 5; ++k)
     expect_within_criterion(en2, en3d, k, "OR + EX -> EN");
 
-  calibrate({"OR", "EN"});
+  ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EN"}));
   const Stations ex2 = predict_variant(model, "EX", ex_case, dir / "ex-two-sizes");
   for (int k = 0; k < 5; ++k)
     expect_within_criterion(ex2, ex3d, k, "OR + EN -> EX");

@@ -139,7 +139,9 @@ Junction entry_junction(const DissectionGeometry& g, int node) {
 
 /// A combining junction at a tear's TL node (the exit, where the FL's flow rejoins): the TL
 /// segment that arrives there (the run) and the segment that leaves it for an aorta node (the
-/// combined flow onward); indices into the segments, -1 if none.
+/// combined flow onward); indices into the segments, -1 if none. Any tear whose TL node leads
+/// on into the undivided aorta is one (also an exit that lies on DAo_dist; its landmark then
+/// reports the node's pressure alone, not a section mean as DAo_prox's).
 Junction exit_junction(const DissectionGeometry& g, int node) {
   Junction j;
   for (size_t i = 0; i < g.segments.size(); ++i) {
@@ -195,10 +197,12 @@ LumpedNetwork build_network(const DissectionGeometry& g, const RomInputs& in,
     NetworkEdge e{"tear_" + t.name, g.node(t.tl_node), g.node(t.fl_node)};
     e.resistance = 8.0 * M_PI * in.viscosity * h / (a * a);
     e.inertance = in.density * (h + 1.7 * std::sqrt(a / M_PI)) / a;
-    // The tear and the TL's channel beside it in series (file comment).
-    const double a_j = t.channel_area > 0.0 ? t.channel_area : a;
+    // The tear and the TL's channel beside it in series (file comment); a tear without a
+    // measured channel (geometry.json refuses one) would be an orifice alone.
+    const double a_j = t.channel_area;
+    const double channel = a_j > 0.0 ? 1.0 / (a_j * a_j) : 0.0;
     e.loss = k.tear_coefficient(t.name) * std::pow(a / t.area, k.size_exponent(t.name)) * 0.5 *
-             in.density * (1.0 / (a * a) + 1.0 / (a_j * a_j));
+             in.density * (1.0 / (a * a) + channel);
     // A tear the undivided aorta feeds (its TL node ends an aorta segment: the entry) is a
     // dividing junction, one that leads on into it (the exit) a combining one (file
     // comment). Either way the node is the TL's channel beside the tear, and the segment

@@ -45,10 +45,13 @@ struct NetworkEdge {
   double loss = 0.0;       ///< k, added to both directions' coefficient [Pa s^2/m^6]
   /// End areas for the Bernoulli and expansion terms [m^2]; 0: no convective term.
   double area_from = 0.0, area_to = 0.0;
-  /// A junction's static regain: the kinetic head rho/2 (q_c / A_j)^2 of the flow q_c
-  /// approaching the junction on edge `regain_edge` is recovered along this edge as the flow
-  /// slows to its own q: adds -h (q_c^2 - q^2), h = rho / (2 A_j^2), with `area_from` = A_j, so
-  /// that the edge's Bernoulli term runs from the approach velocity to its own exit velocity.
+  /// A junction's carried head: the kinetic head rho/2 (q_c / A_j)^2 of the flow q_c that
+  /// arrives at the junction on edge `regain_edge` is what this edge's flow q starts from, not
+  /// its own head in the junction's channel: adds -h (q_c^2 - q^2), h = rho / (2 A_j^2), with
+  /// `area_from` = A_j, so that the edge's Bernoulli term runs from the arriving velocity to
+  /// its own exit velocity. At a dividing junction (q < q_c) the static pressure rises as the
+  /// flow slows (a regain); at a combining one (q > q_c) the combined flow's acceleration
+  /// draws on the arriving flow's head only.
   /// Even in both flows, as Bernoulli's term is: a backflow that leaves the junction on the
   /// approach edge finds the same static pressure there. None when `regain_edge` < 0.
   /// [Pa s^2/m^6]
