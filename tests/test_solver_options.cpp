@@ -2,12 +2,15 @@
 // solvers as the command line's do; neither they nor a run's solver defaults reach PETSc's
 // global database or the next run in the process.
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
+#include "core/error.hpp"
 #include "fem/petsc.hpp"
 #include "fem/solver_options.hpp"
+#include "physics/preconditioner_lag.hpp"
 #include "run/simulation.hpp"
 
 namespace tearflow {
@@ -76,6 +79,48 @@ TEST(SolverOptions, ARunStartsFromTheOptionsInForceAndItsOwnWin) {
   }
   PetscOptionsClearValue(nullptr, "-test_solver_options_global");
   PetscOptionsClearValue(nullptr, "-test_solver_options_both");
+}
+
+/// The builds PreconditionerLag decides for Jacobians preceded by linear solves of these
+/// Krylov counts (the first entry: the run's first Jacobian, no solve before it).
+std::vector<bool> builds(physics::PreconditionerLag lag, const std::vector<int>& iterations) {
+  std::vector<bool> b;
+  for (int its : iterations)
+    b.push_back(lag.due(its));
+  return b;
+}
+
+TEST(SolverOptions, ALaggedPreconditionerIsBuiltAgainWhenItsSolvesGrow) {
+  // Lag 10, growth 2: the first solve after a build took 20, so one of more than 40 builds
+  // anew, and the next build's first solve (15) sets the bar at 30.
+  EXPECT_EQ(builds({10, 2.0}, {0, 20, 30, 40, 41, 15, 30, 31}),
+            (std::vector<bool>{true, false, false, false, true, false, false, true}));
+  // A first solve under PreconditionerLag::kMinIterations counts as that many: 4 sets the bar
+  // at 20, not 8.
+  EXPECT_EQ(builds({10, 2.0}, {0, 4, 20, 21}), (std::vector<bool>{true, false, false, true}));
+  // Without growth the lag alone decides: the 11th Jacobian after a build, whatever the counts.
+  std::vector<int> growing{0};
+  for (int i = 1; i <= 11; ++i)
+    growing.push_back(20 * i);
+  std::vector<bool> every_tenth(12, false);
+  every_tenth[0] = every_tenth[10] = true;
+  EXPECT_EQ(builds({10, 0.0}, growing), every_tenth);
+  // A build asked for (a checkpoint) restarts the counts: the solves before it do not count.
+  physics::PreconditionerLag lag(10, 2.0);
+  EXPECT_TRUE(lag.due(0));
+  EXPECT_FALSE(lag.due(20));
+  EXPECT_FALSE(lag.due(30));
+  lag.rebuild_next();
+  EXPECT_TRUE(lag.due(1000));
+  EXPECT_FALSE(lag.due(50));  // the first solve after this build
+  EXPECT_FALSE(lag.due(100)); // twice it
+  EXPECT_TRUE(lag.due(101));
+}
+
+TEST(SolverOptions, ABadPreconditionerGrowthIsRefused) {
+  EXPECT_THROW(run::Simulation(pipe_case("-fluid_lag_preconditioner_growth 0.5")), InputError);
+  run::Simulation grown(pipe_case("-fluid_lag_preconditioner_growth 2"));
+  EXPECT_GT(grown.advance().newton_iterations, 0);
 }
 
 } // namespace

@@ -76,8 +76,10 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const physics::NewtonSpe
   // user set nothing, so any PETSc option wins.
   fem::set_default_options(Problem::default_solver_options());
   TF_PETSC(SNESSetFromOptions(snes_));
-  // The preconditioner's lag is counted by preconditioner_due(); SNES only carries it out.
-  TF_PETSC(SNESGetLagPreconditioner(snes_, &preconditioner_lag_));
+  // The preconditioner's lag is counted by lag_ (preconditioner_lag.hpp); SNES only carries it
+  // out.
+  PetscInt lag = 1;
+  TF_PETSC(SNESGetLagPreconditioner(snes_, &lag));
   PetscBool persists = PETSC_FALSE;
   TF_PETSC(PetscOptionsGetBool(nullptr, Problem::options_prefix,
                                "-snes_lag_preconditioner_persists", &persists, nullptr));
@@ -91,6 +93,14 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const physics::NewtonSpe
                                  "(0: a Jacobian every Newton iteration)",
                                  Problem::options_prefix, contraction));
   reuse_contraction_ = contraction;
+  PetscReal growth = 0.0;
+  TF_PETSC(PetscOptionsGetReal(nullptr, Problem::options_prefix, "-lag_preconditioner_growth",
+                               &growth, nullptr));
+  if (!(growth == 0.0 || growth > 1.0))
+    throw InputError(fmt::format("-{}lag_preconditioner_growth {}: expected 0 (the lag alone) or "
+                                 "a factor above 1",
+                                 Problem::options_prefix, growth));
+  lag_ = PreconditionerLag(static_cast<int>(lag), growth);
   if constexpr (requires(Problem & p, KSP k) { p.attach_preconditioner(k); })
     problem.attach_preconditioner(ksp);
   TF_PETSC(SNESSetConvergenceHistory(snes_, residual_history_.data(), nullptr,
@@ -114,14 +124,6 @@ PetscErrorCode NewtonStepper<Problem>::form_residual(SNES, Vec U, Vec R, void* c
                                            [&] { self->problem_.residual(U, R); });
 }
 
-template <typename Problem> bool NewtonStepper<Problem>::preconditioner_due() {
-  const bool due = rebuild_preconditioner_ ||
-                   (preconditioner_lag_ > 0 && jacobians_since_rebuild_ >= preconditioner_lag_);
-  rebuild_preconditioner_ = false;
-  jacobians_since_rebuild_ = due ? 1 : jacobians_since_rebuild_ + 1;
-  return due;
-}
-
 // Newton with the Jacobian kept while it contracts well (between Newton's method and the
 // chord method, which keeps one Jacobian throughout): where the last iteration reduced ||R|| by
 // the factor theta or better, the iterate moved little and the next iteration keeps the
@@ -131,7 +133,7 @@ template <typename Problem> bool NewtonStepper<Problem>::preconditioner_due() {
 // measures it). The decision depends on the step's own residual history alone, so a restarted
 // run repeats it.
 template <typename Problem> bool NewtonStepper<Problem>::jacobian_reusable(SNES snes) const {
-  if (reuse_contraction_ <= 0.0 || !reuse_allowed_ || rebuild_preconditioner_ || jacobians_ == 0)
+  if (reuse_contraction_ <= 0.0 || !reuse_allowed_ || lag_.rebuild_pending() || jacobians_ == 0)
     return false;
   PetscInt k = 0, length = 0;
   PetscReal* history = nullptr;
@@ -150,7 +152,12 @@ PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES snes, Vec U, Mat A, Ma
     } else {
       ++self->jacobians_;
       // SNES decides on the preconditioner after this callback: -2 rebuilds it once.
-      TF_PETSC(SNESSetLagPreconditioner(snes, self->preconditioner_due() ? -2 : -1));
+      KSP ksp;
+      PetscInt last_iterations = 0;
+      TF_PETSC(SNESGetKSP(snes, &ksp));
+      TF_PETSC(KSPGetIterationNumber(ksp, &last_iterations));
+      TF_PETSC(SNESSetLagPreconditioner(
+          snes, self->lag_.due(static_cast<int>(last_iterations)) ? -2 : -1));
       self->problem_.jacobian(U, P);
     }
     // The operator, where it is not P: the shell adding the coupled outlets, or PETSc's
@@ -183,7 +190,7 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
   TF_PETSC(VecCopy(U_, U_prev_));
   problem_.apply_dirichlet(U_);
   if (!lag_persists_)
-    rebuild_preconditioner_ = true;
+    lag_.rebuild_next();
   reuse_allowed_ = true;
   jacobians_ = jacobians_reused_ = 0;
   PetscErrorCode err = SNESSolve(snes_, nullptr, U_);
@@ -203,13 +210,13 @@ template <typename Problem> StepReport NewtonStepper<Problem>::step(double t, do
     jacobians_ = jacobians_reused_ = 0;
     TF_PETSC(VecCopy(U_prev_, U_));
     problem_.apply_dirichlet(U_);
-    rebuild_preconditioner_ = true;
+    lag_.rebuild_next();
     err = SNESSolve(snes_, nullptr, U_);
     SNESGetConvergedReason(snes_, &reason);
   };
   // A preconditioner lagged from earlier iterations can be too stale for a sudden change
   // (a valve-like flow reversal): retry the step once with a freshly built one.
-  if (err == 0 && reason == SNES_DIVERGED_LINEAR_SOLVE && preconditioner_lag_ != 1) {
+  if (err == 0 && reason == SNES_DIVERGED_LINEAR_SOLVE && lag_.lag() != 1) {
     if (root)
       spdlog::info("step t = {:.6g} s: linear solve failed with the lagged preconditioner; "
                    "retrying with a new one",

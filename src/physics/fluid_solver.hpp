@@ -9,6 +9,7 @@
 #include "physics/callback_error.hpp"
 #include "physics/fluid_problem.hpp"
 #include "physics/newton_spec.hpp"
+#include "physics/preconditioner_lag.hpp"
 #include "physics/step_report.hpp"
 
 namespace tearflow::physics {
@@ -37,16 +38,12 @@ public:
   /// The next step builds its preconditioner afresh and counts its lag from there, as a run
   /// restarted at this point does: called where a checkpoint is written, so that a restart
   /// repeats the uninterrupted run bit for bit.
-  void rebuild_preconditioner_next() { rebuild_preconditioner_ = true; }
+  void rebuild_preconditioner_next() { lag_.rebuild_next(); }
 
 private:
   static PetscErrorCode form_residual(SNES, Vec U, Vec R, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec U, Mat J, Mat P, void* ctx);
   static PetscErrorCode shell_mult(Mat J, Vec x, Vec y);
-  /// Whether this Jacobian rebuilds the preconditioner (the lag of
-  /// -<prefix>snes_lag_preconditioner, counted here rather than by SNES so that its count
-  /// can restart with the run; see rebuild_preconditioner_next).
-  bool preconditioner_due();
   /// Whether Newton iteration k keeps the Jacobian of the one before: the last iteration
   /// contracted ||R|| by at least -<prefix>jacobian_reuse_contraction (fluid_solver.cpp).
   bool jacobian_reusable(SNES snes) const;
@@ -58,10 +55,11 @@ private:
   fem::OwnedSNES snes_;
   double assembly_seconds_ = 0.0;
   CallbackError callback_error_;
-  PetscInt preconditioner_lag_ = 1; ///< rebuilt every this many Jacobians; < 0: only when due
-  bool lag_persists_ = false;       ///< the count goes on across steps
-  bool rebuild_preconditioner_ = true;
-  PetscInt jacobians_since_rebuild_ = 0;
+  /// When the preconditioner is built: -<prefix>snes_lag_preconditioner, counted here rather
+  /// than by SNES so that its count can restart with the run (rebuild_preconditioner_next),
+  /// and -<prefix>lag_preconditioner_growth.
+  PreconditionerLag lag_{1, 0.0};
+  bool lag_persists_ = false;                ///< the count goes on across steps
   double reuse_contraction_ = 0.0;           ///< 0: a Jacobian every Newton iteration
   bool reuse_allowed_ = true;                ///< off while a step that reused one is solved again
   int jacobians_ = 0, jacobians_reused_ = 0; ///< this step's attempt

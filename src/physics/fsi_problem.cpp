@@ -85,9 +85,15 @@ fem::OptionList FsiProblem::default_solver_options() {
   // Full Newton steps (basic line search): before the shape derivatives, single steps raised
   // ||R|| now and then and backtracking stalled on the same direction (the 4.5 mm dissection
   // at 1.28e-6 in step 1; the 2 mm one failed its line search).
+  //
+  // Built sooner where a solve takes more than twice the iterations of the first one with the
+  // build (preconditioner_lag.hpp): the 4.5 mm dissection's first FSI cycle (dt 20 ms, 2 ranks)
+  // 195 -> 172 s, Krylov 1916 -> 1501, the same Newton iterations; its first five steps 71 ->
+  // 37 s.
   fem::OptionList options = {{"-fsi_ksp_rtol", "1e-4"},
                              {"-fsi_snes_lag_preconditioner", "10"},
-                             {"-fsi_snes_lag_preconditioner_persists", "true"}};
+                             {"-fsi_snes_lag_preconditioner_persists", "true"},
+                             {"-fsi_lag_preconditioner_growth", "2"}};
   for (auto& option : FsiPreconditioner::default_options())
     options.push_back(std::move(option));
   return options;
