@@ -182,6 +182,23 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
               std::string::npos);
   }
 
+  // A calibration made for an earlier network (version 4) is refused by `rom sweep`: run
+  // again, the finished study calibrates again, and the stages after it (the sweep, the
+  // report) use the new fit; no variant's stage runs again.
+  {
+    json old = calibration;
+    old["version"] = 4;
+    std::ofstream(out / "OR" / "geometry" / "rom" / "calibration.json") << old.dump(2);
+    r = testing::run_tearflow("study " + (a / "study.yaml").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    for (const char* stage : {": rom_calibrate (", ": rom_sweep (", ": report ("})
+      EXPECT_NE(r.output.find(stage), std::string::npos) << stage << "\n" << r.output;
+    for (const char* stage : {": OR ", ": EN "})
+      EXPECT_EQ(r.output.find(stage), std::string::npos) << stage << "\n" << r.output;
+    EXPECT_EQ(read_json(out / "OR" / "geometry" / "rom" / "calibration.json")["version"],
+              calibration["version"]);
+  }
+
   // A second study from the same recipe, killed during OR's simulation once a checkpoint
   // exists (every 10 steps), then run again: it must continue (not redo geometry or tuning)
   // and end where the uninterrupted study ended.

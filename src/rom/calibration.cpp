@@ -344,6 +344,14 @@ void save_calibration(const std::filesystem::path& model_dir, const Calibration&
   fmt::print("wrote {}\n", file.string());
 }
 
+bool calibration_is_current(const std::filesystem::path& model_dir) {
+  std::ifstream in(calibration_file(model_dir));
+  if (!in)
+    return false;
+  const json j = json::parse(in, nullptr, false);
+  return !j.is_discarded() && j.is_object() && j.value("version", 0) == kCalibrationVersion;
+}
+
 RomCoefficients load_coefficients(const std::filesystem::path& model_dir,
                                   const std::filesystem::path& given, bool compliant,
                                   bool progress) {

@@ -69,6 +69,10 @@ Calibration calibrate_model(const DissectionGeometry& g, const geometry::Landmar
 /// Writes MODEL/rom/calibration.json, keeping a wall model's earlier fit that this one lacks.
 void save_calibration(const std::filesystem::path& model_dir, const Calibration& c);
 
+/// Whether MODEL/rom/calibration.json is there and of this tearflow's network (a fit made for
+/// an earlier one is refused by load_coefficients).
+bool calibration_is_current(const std::filesystem::path& model_dir);
+
 /// The coefficients for a wall model: from `file` if given, else MODEL/rom/calibration.json
 /// (the other wall model's fit when its own is missing, said when `progress`), else the
 /// uncalibrated defaults (said when `progress`).
