@@ -98,7 +98,7 @@ TEST(SolverOptions, ALaggedPreconditionerIsBuiltAgainWhenItsSolvesGrow) {
   // A first solve under PreconditionerLag::kMinIterations counts as that many: 4 sets the bar
   // at 20, not 8.
   EXPECT_EQ(builds({10, 2.0}, {0, 4, 20, 21}), (std::vector<bool>{true, false, false, true}));
-  // Without growth the lag alone decides: the 11th Jacobian after a build, whatever the counts.
+  // Without growth the lag alone decides: the 10th Jacobian after a build, whatever the counts.
   std::vector<int> growing{0};
   for (int i = 1; i <= 11; ++i)
     growing.push_back(20 * i);

@@ -89,7 +89,7 @@ fem::OptionList FsiProblem::default_solver_options() {
   // Built sooner where a solve takes more than twice the iterations of the first one with the
   // build (preconditioner_lag.hpp): the 4.5 mm dissection's first FSI cycle (dt 20 ms, 2 ranks)
   // 195 -> 172 s, Krylov 1916 -> 1501, the same Newton iterations; its first five steps 71 ->
-  // 37 s.
+  // 36 s.
   fem::OptionList options = {{"-fsi_ksp_rtol", "1e-4"},
                              {"-fsi_snes_lag_preconditioner", "10"},
                              {"-fsi_snes_lag_preconditioner_persists", "true"},

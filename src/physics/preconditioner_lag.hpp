@@ -8,7 +8,9 @@
 // with one built at every Jacobian it stayed at 43-55 (docs/performance.md, 2026-11-28). So a
 // solve that took more than `growth` times the iterations of the first solve after the build
 // also builds one; the first solve's count is taken as at least kMinIterations, below which a
-// build (about ten Krylov iterations' worth there) costs more than the growth.
+// build (about ten Krylov iterations' worth there) costs more than the growth. (Where Newton
+// keeps its Jacobian, no Jacobian is assembled and the preconditioner stays: the counts are
+// those seen at the Jacobians assembled, the first of them after the build the reference.)
 //
 // The counts are the build's own, and a checkpoint asks for a build (rebuild_next), so a run
 // restarted from it takes the same decisions as the uninterrupted one.

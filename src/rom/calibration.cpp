@@ -349,7 +349,8 @@ bool calibration_is_current(const std::filesystem::path& model_dir) {
   if (!in)
     return false;
   const json j = json::parse(in, nullptr, false);
-  return !j.is_discarded() && j.is_object() && j.value("version", 0) == kCalibrationVersion;
+  return !j.is_discarded() && j.is_object() && j.contains("version") &&
+         j["version"].is_number_integer() && j["version"].get<int>() == kCalibrationVersion;
 }
 
 RomCoefficients load_coefficients(const std::filesystem::path& model_dir,

@@ -395,12 +395,16 @@ int StudyRunner::run() {
     write_case(v);
   }
   const std::vector<Stage> all = stages();
-  bool ran = false; // the study-wide stages (the ROM's, the report) use what ran before them
   for (std::size_t i = 0; i < all.size(); ++i) {
     const Stage& s = all[i];
-    if (finished(s) && !(ran && s.variant == nullptr))
+    if (finished(s))
       continue;
-    ran = true;
+    // The study-wide stages after this one (the ROM's, the report) use what it makes: they
+    // run again, also when this study is interrupted and run once more.
+    for (std::size_t j = i + 1; j < all.size(); ++j)
+      if (all[j].variant == nullptr)
+        record_["stages"].erase(key_of("", all[j].name));
+    io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
     progress(i, all.size());
     if (s.name == "rigid_run")
       write_rigid_case(*s.variant);
