@@ -322,19 +322,29 @@ std::filesystem::path calibration_file(const std::filesystem::path& model_dir) {
   return model_dir / "rom" / "calibration.json";
 }
 
+/// A calibration file parsed; discarded where it is missing or not JSON.
+json read_calibration_json(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  return in ? json::parse(in, nullptr, false) : json(json::value_t::discarded);
+}
+
+/// Whether a parsed calibration file is a fit of this tearflow's network.
+bool of_this_version(const json& j) {
+  if (!j.is_object())
+    return false;
+  const auto v = j.find("version");
+  return v != j.end() && v->is_number_integer() && v->get<int>() == kCalibrationVersion;
+}
+
 } // namespace
 
 void save_calibration(const std::filesystem::path& model_dir, const Calibration& c) {
   const std::filesystem::path file = calibration_file(model_dir);
   json j{{"format", "tearflow-rom-calibration"}, {"version", kCalibrationVersion}};
-  if (std::filesystem::exists(file)) {
-    std::ifstream in(file);
-    const json old = json::parse(in, nullptr, false);
-    if (!old.is_discarded() && old.is_object() && old.value("version", 0) == kCalibrationVersion)
-      for (const char* key : {"rigid", "compliant"})
-        if (old.contains(key))
-          j[key] = old[key];
-  }
+  if (const json old = read_calibration_json(file); of_this_version(old))
+    for (const char* key : {"rigid", "compliant"})
+      if (old.contains(key))
+        j[key] = old[key];
   if (c.rigid)
     j["rigid"] = fit_json(*c.rigid);
   if (c.compliant)
@@ -345,12 +355,7 @@ void save_calibration(const std::filesystem::path& model_dir, const Calibration&
 }
 
 bool calibration_is_current(const std::filesystem::path& model_dir) {
-  std::ifstream in(calibration_file(model_dir));
-  if (!in)
-    return false;
-  const json j = json::parse(in, nullptr, false);
-  return !j.is_discarded() && j.is_object() && j.contains("version") &&
-         j["version"].is_number_integer() && j["version"].get<int>() == kCalibrationVersion;
+  return of_this_version(read_calibration_json(calibration_file(model_dir)));
 }
 
 RomCoefficients load_coefficients(const std::filesystem::path& model_dir,
@@ -365,14 +370,13 @@ RomCoefficients load_coefficients(const std::filesystem::path& model_dir,
                  file.string());
     return {};
   }
-  std::ifstream in(file);
-  const json j = json::parse(in, nullptr, false);
+  const json j = read_calibration_json(file);
   if (j.is_discarded() || !j.is_object())
     input_error("{}: not JSON", file.string());
-  if (j.value("version", 0) != kCalibrationVersion)
+  if (!of_this_version(j))
     input_error("{}: calibration version {}, this tearflow's model is version {} (its network "
                 "changed): run `tearflow rom calibrate` again",
-                file.string(), j.value("version", 0), kCalibrationVersion);
+                file.string(), j.value("version", json(0)).dump(), kCalibrationVersion);
   const char* own = compliant ? "compliant" : "rigid";
   const char* other = compliant ? "rigid" : "compliant";
   const char* key = j.contains(own) ? own : other;

@@ -149,7 +149,6 @@ void StudyRunner::forget_variant(const Variant& v) {
   json& stages = record_["stages"];
   for (auto it = stages.begin(); it != stages.end();)
     it = it.key().rfind(v.name + "/", 0) == 0 ? stages.erase(it) : std::next(it);
-  stages.erase("report");
   std::filesystem::remove_all(dir(v) / "run"); // no restart from another recipe's state
   std::filesystem::remove_all(dir(v) / "rigid");
   io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
@@ -401,10 +400,12 @@ int StudyRunner::run() {
       continue;
     // The study-wide stages after this one (the ROM's, the report) use what it makes: they
     // run again, also when this study is interrupted and run once more.
+    std::size_t erased = 0;
     for (std::size_t j = i + 1; j < all.size(); ++j)
       if (all[j].variant == nullptr)
-        record_["stages"].erase(key_of("", all[j].name));
-    io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
+        erased += record_["stages"].erase(key_of("", all[j].name));
+    if (erased > 0)
+      io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
     progress(i, all.size());
     if (s.name == "rigid_run")
       write_rigid_case(*s.variant);
