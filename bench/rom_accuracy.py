@@ -19,7 +19,7 @@ study-rigid-3mm-n6-mid.yaml's EN120 and EX120): each of its variants is predicte
 every calibration of the (first) study above, its tears resized to the areas its own
 geometry/landmarks.json declares.
 """
-import json, os, shutil, subprocess, sys, tempfile
+import argparse, json, os, shutil, subprocess, tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.path.join(ROOT, "build", "tearflow")
@@ -47,18 +47,20 @@ def declared_areas(study, variant):
     return args
 
 
+def arguments():
+    ap = argparse.ArgumentParser(
+        description="The reduced-order model against held-out 3D variants of a study (JSON).")
+    ap.add_argument("studies", nargs="+", metavar="STUDY_OUTPUT",
+                    help="a finished study's output folder (variants OR, EN, EX)")
+    ap.add_argument("--also", metavar="STUDY_OUTPUT",
+                    help="a study of other tear sizes of the first study's geometry")
+    return ap.parse_args()
+
+
 def main():
     out = []
-    argv = sys.argv[1:]
-    also = None
-    if "--also" in argv:
-        i = argv.index("--also")
-        if i + 1 >= len(argv) or argv[i + 1].startswith("-"):
-            sys.exit("usage: bench/rom_accuracy.py STUDY_OUTPUT [...] [--also STUDY_OUTPUT]")
-        also = argv[i + 1]
-        argv = argv[:i] + argv[i + 2:]
-    if not argv or any(a.startswith("-") for a in argv):
-        sys.exit("usage: bench/rom_accuracy.py STUDY_OUTPUT [...] [--also STUDY_OUTPUT]")
+    args = arguments()
+    argv, also = args.studies, args.also
     for study in argv:
         tmp = tempfile.mkdtemp(prefix="tearflow-rom-accuracy-")
         model = os.path.join(tmp, "OR")
