@@ -377,7 +377,8 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   // held to their measured errors and the fit's residual (rms ~0.7 mmHg or 0.35 point): 6
   // points and 5 mmHg, so that a regression shows, and stay in docs/rom.md's table as not met.
   // Between the study's sizes (EN120, EX120: the entry or the exit at 120 mm^2, runs made
-  // after the network was settled) OR alone meets the criterion: 2.9 and 0.4 points.
+  // after the network was settled) OR alone meets the criterion: 2.9 and 0.4 points. Last,
+  // the same with the wall: FSI OR alone -> FSI EN.
   const fs::path dir = fresh_dir("rom-3mm-n6");
   const fs::path model = dir / "OR";
   const fs::path data = kData / "3mm-n6";
@@ -391,11 +392,11 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   const fs::path ex_case = stored_case("EX", model, dir, "rigid", data);
   const fs::path en120_case = stored_case("EN120", model, dir, "rigid", data);
   const fs::path ex120_case = stored_case("EX120", model, dir, "rigid", data);
-  auto calibrate = [&](const std::vector<std::string>& variants) {
+  auto calibrate = [&](const std::vector<std::string>& variants, const std::string& kind) {
     std::string args = "rom calibrate " + model.string();
     for (const std::string& v : variants)
-      args += " --run " + (data / (v + "-rigid")).string() + " --case " +
-              (dir / (v + "-rigid.yaml")).string();
+      args += " --run " + (data / (v + "-" + kind)).string() + " --case " +
+              (dir / (v + "-" + kind + ".yaml")).string();
     for (const std::string& v : variants)
       args += " --run-model " + (v == "OR" ? model : data / (v + "-model")).string();
     fs::remove(model / "rom" / "calibration.json");
@@ -407,7 +408,7 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   const Stations en120_3d = stored_stations("EN120", g, en120_case, "rigid", data);
   const Stations ex120_3d = stored_stations("EX120", g, ex120_case, "rigid", data);
 
-  ASSERT_NO_FATAL_FAILURE(calibrate({"OR"}));
+  ASSERT_NO_FATAL_FAILURE(calibrate({"OR"}, "rigid"));
   const Stations en = predict_variant(model, "EN", en_case, dir / "en"),
                  ex = predict_variant(model, "EX", ex_case, dir / "ex");
   for (int k = 0; k < 5; ++k) {
@@ -431,7 +432,7 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
     expect_within_criterion(ex120, ex120_3d, k, "OR -> EX120");
   }
 
-  ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EX"}));
+  ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EX"}, "rigid"));
   // The fit's bounds hold: alpha >= 1 (Poiseuille's is the least) and the exit's size exponent
   // within (-1, 1) (docs/rom.md, "Calibration").
   const nlohmann::json fit = read_json(model / "rom" / "calibration.json")["rigid"]["coefficients"];
@@ -441,9 +442,26 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   for (int k = 0; k < 5; ++k)
     expect_within_criterion(en2, en3d, k, "OR + EX -> EN");
 
-  ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EN"}));
+  ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EN"}, "rigid"));
   const Stations ex2 = predict_variant(model, "EX", ex_case, dir / "ex-two-sizes");
   for (int k = 0; k < 5; ++k)
     expect_within_criterion(ex2, ex3d, k, "OR + EN -> EX");
+
+  // With the wall (results/tbad-3mm-n6-fsi, the same meshes), calibrated on the FSI OR alone
+  // (the fit kept before EN ran): the held-out FSI EN's dP within the criterion at every
+  // station; its FR_FL 5.8 points off (51.1 against 57.0 %), the rigid runs' miss again (fitted
+  // to each run alone the entry's K_t is 2.16 at 228 mm^2 and 1.51 at 62 mm^2, the rigid runs'
+  // ratio), held to 6.5 points: the measured error and the fit's residual, as above.
+  const fs::path en_fsi_case = stored_case("EN", model, dir, "fsi", data);
+  stored_case("OR", model, dir, "fsi", data);
+  const Stations en_fsi3d = stored_stations("EN", g, en_fsi_case, "fsi", data);
+  ASSERT_NO_FATAL_FAILURE(calibrate({"OR"}, "fsi"));
+  const Stations en_fsi = predict_variant(model, "EN", en_fsi_case, dir / "en-fsi");
+  for (int k = 0; k < 5; ++k) {
+    print_station(en_fsi, en_fsi3d, k, "FSI OR -> EN");
+    EXPECT_NEAR(en_fsi.fr[k], en_fsi3d.fr[k], 6.5)
+        << "FSI OR -> EN station " << k + 1 << " (a documented miss)";
+    EXPECT_NEAR(en_fsi.dp[k], en_fsi3d.dp[k], std::max(3.0, 0.2 * std::abs(en_fsi3d.dp[k])));
+  }
   fs::remove_all(dir);
 }
