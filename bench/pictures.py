@@ -6,8 +6,8 @@ usage: bench/pictures.py [--element-size 4.5] [--steps 40] [--every 2] [--keep D
 Builds the OR model (`geometry tbad`), runs examples/tbad-rigid/case.yaml on it for `steps`
 steps of 5 ms saving every `every`-th, then times `tearflow pictures` (peak systole and
 mid-diastole: streamlines from three views, the plane maps) and `pictures --animate` (every
-saved frame's streamlines too), with their peak memory (GNU time), the mesh's size and the
-pictures' counts from pictures.json. Renders through its own virtual X server when DISPLAY is
+saved frame's streamlines too), with their peak memory (GNU time), the mesh's size, the
+pictures' counts from pictures.json and the animation's bytes against its PNG frames'. Renders through its own virtual X server when DISPLAY is
 unset. One process at a time: run it on a quiet machine.
 """
 import argparse, json, os, re, subprocess
@@ -45,6 +45,13 @@ def main():
         pngs = sum(1 for _, _, files in os.walk(folder) for f in files if f.endswith(".png"))
         out[name] = {"wall_s": round(wall, 1), "peak_mb": round(peak), "png_files": pngs,
                      "frames": len(listing.get("frames", []))}
+        animation = listing.get("animation")
+        if animation:  # the APNG's size against its frames' (report/apng.hpp)
+            frames = os.path.join(folder, "animation")
+            out[name]["animation_bytes"] = os.path.getsize(
+                os.path.join(folder, animation["file"]))
+            out[name]["animation_frames_bytes"] = sum(
+                os.path.getsize(os.path.join(frames, f)) for f in os.listdir(frames))
     text = subprocess.run([BIN, "geometry", "report", model, "--no-png"], check=True,
                           capture_output=True, text=True).stdout
     tets = re.search(r"fluid\s+(\d+) tets", text)
