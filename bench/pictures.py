@@ -7,8 +7,9 @@ Builds the OR model (`geometry tbad`), runs examples/tbad-rigid/case.yaml on it 
 steps of 5 ms saving every `every`-th, then times `tearflow pictures` (peak systole and
 mid-diastole: streamlines from three views, the plane maps) and `pictures --animate` (every
 saved frame's streamlines too), with their peak memory (GNU time), the mesh's size, the
-pictures' counts from pictures.json and the animation's bytes against its PNG frames'. Renders through its own virtual X server when DISPLAY is
-unset. One process at a time: run it on a quiet machine.
+pictures' counts from pictures.json and the animation's bytes against its PNG frames'.
+Renders through its own virtual X server when DISPLAY is unset. One process at a time: run it
+on a quiet machine.
 """
 import argparse, json, os, re, subprocess
 

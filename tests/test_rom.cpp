@@ -76,10 +76,13 @@ void print_station(const Stations& rom, const Stations& d3, int k, const std::st
 
 /// The criterion at one station: FR_FL within 5 points, peak-systolic dP within
 /// 3 mmHg or 20 %.
+/// The criterion at station k; `fr_points` above its 5 holds a documented miss of FR_FL
+/// to its measured error.
 void expect_within_criterion(const Stations& rom, const Stations& d3, int k,
-                             const std::string& what) {
+                             const std::string& what, double fr_points = 5.0) {
   print_station(rom, d3, k, what);
-  EXPECT_NEAR(rom.fr[k], d3.fr[k], 5.0) << what << " station " << k + 1;
+  EXPECT_NEAR(rom.fr[k], d3.fr[k], fr_points)
+      << what << " station " << k + 1 << (fr_points > 5.0 ? " (a documented miss)" : "");
   EXPECT_NEAR(rom.dp[k], d3.dp[k], std::max(3.0, 0.2 * std::abs(d3.dp[k])))
       << what << " station " << k + 1;
 }
@@ -412,10 +415,7 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   const Stations en = predict_variant(model, "EN", en_case, dir / "en"),
                  ex = predict_variant(model, "EX", ex_case, dir / "ex");
   for (int k = 0; k < 5; ++k) {
-    print_station(en, en3d, k, "OR -> EN");
-    EXPECT_NEAR(en.fr[k], en3d.fr[k], 6.0)
-        << "OR -> EN station " << k + 1 << " (a documented miss)";
-    EXPECT_NEAR(en.dp[k], en3d.dp[k], std::max(3.0, 0.2 * std::abs(en3d.dp[k])));
+    expect_within_criterion(en, en3d, k, "OR -> EN", 6.0);
     if (k != 3) {
       expect_within_criterion(ex, ex3d, k, "OR -> EX");
     } else {
@@ -453,15 +453,11 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   // to each run alone the entry's K_t is 2.16 at 228 mm^2 and 1.51 at 62 mm^2, the rigid runs'
   // ratio), held to 6.5 points: the measured error and the fit's residual, as above.
   const fs::path en_fsi_case = stored_case("EN", model, dir, "fsi", data);
-  stored_case("OR", model, dir, "fsi", data);
+  stored_case("OR", model, dir, "fsi", data); // dir/OR-fsi.yaml, which `calibrate` reads
   const Stations en_fsi3d = stored_stations("EN", g, en_fsi_case, "fsi", data);
   ASSERT_NO_FATAL_FAILURE(calibrate({"OR"}, "fsi"));
   const Stations en_fsi = predict_variant(model, "EN", en_fsi_case, dir / "en-fsi");
-  for (int k = 0; k < 5; ++k) {
-    print_station(en_fsi, en_fsi3d, k, "FSI OR -> EN");
-    EXPECT_NEAR(en_fsi.fr[k], en_fsi3d.fr[k], 6.5)
-        << "FSI OR -> EN station " << k + 1 << " (a documented miss)";
-    EXPECT_NEAR(en_fsi.dp[k], en_fsi3d.dp[k], std::max(3.0, 0.2 * std::abs(en_fsi3d.dp[k])));
-  }
+  for (int k = 0; k < 5; ++k)
+    expect_within_criterion(en_fsi, en_fsi3d, k, "FSI OR -> EN", 6.5);
   fs::remove_all(dir);
 }

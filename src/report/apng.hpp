@@ -10,9 +10,9 @@ namespace tearflow::report {
 /// Joins `frames` (8-bit RGB or RGBA PNG files of equal size and pixel format) into the
 /// looping animation `out`, each frame shown `delay_ms` milliseconds. The frames share one
 /// palette (report/palette.hpp: exact up to 256 colours) and each after the first stores only
-/// the rectangle that changed: a third of the RGB frames' bytes or less. InputError naming a frame
-/// that is not a PNG or differs from the first in size or format, or `out` when it cannot be
-/// written.
+/// the rectangle that changed: about a third of the RGB frames' bytes for the streamlines
+/// (docs/analysis.md). InputError naming a frame that is not such a PNG or differs from the
+/// first in size or format, or `out` when it cannot be written.
 void write_apng(const std::vector<std::filesystem::path>& frames, int delay_ms,
                 const std::filesystem::path& out);
 

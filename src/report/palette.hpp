@@ -19,10 +19,11 @@ struct Palette {
   std::unordered_map<Rgba, std::uint8_t> of; ///< every counted colour -> its entry
 };
 
-/// The colours themselves when there are at most `size` of them (lossless); else Heckbert's
-/// median cut: the box of colours with the widest channel range (weighted by its pixels) split
-/// at its weighted median until there are `size` boxes, each box's entry its pixels' mean,
-/// every colour mapped to its nearest entry.
+/// The colours themselves when there are at most `size` (<= 256) of them (lossless); else
+/// Heckbert's median cut: the box of colours whose pixels lie farthest from their mean (summed
+/// squared distance) split at the weighted median of its channel of largest variance, until
+/// there are `size` boxes; each box's entry its pixels' mean, every colour mapped to its
+/// nearest entry.
 Palette median_cut(const ColourCounts& counts, std::size_t size = 256);
 
 } // namespace tearflow::report
