@@ -271,10 +271,18 @@ StateScene state_scene(const RunFiles& run, const fs::path& out, const json& ent
   return s;
 }
 
+/// Streamlines already traced through one frame's file.
+struct TracedFrame {
+  fs::path file;
+  vtkSmartPointer<vtkPolyData> lines;
+};
+
 /// The streamlines of every frame of the cycle from one view (the flap's, else the first),
-/// each frame's PNG in animation/ and the animated PNG beside the frame folders.
+/// each frame's PNG in animation/ and the animated PNG beside the frame folders. A frame that
+/// `traced` holds (the pictures' first, peak systole) is not traced again.
 json animate(const analysis::CycleFrames& cycle, const geometry::Landmark& seed,
-             const std::vector<View>& views, const PicturesOptions& o, const fs::path& out) {
+             const std::vector<View>& views, const PicturesOptions& o, const TracedFrame& traced,
+             const fs::path& out) {
   const View& view = views.back().name == "flap" ? views.back() : views.front();
   const fs::path dir = out / "animation";
   fs::create_directories(dir);
@@ -284,7 +292,9 @@ json animate(const analysis::CycleFrames& cycle, const geometry::Landmark& seed,
   for (std::size_t i = 0; i < cycle.frames.size(); ++i) {
     const analysis::FlowFrame& f = cycle.frames[i];
     const auto fluid = analysis::read_flow_frame(f.file);
-    const auto lines = analysis::trace_streamlines(fluid, seed, so, f.file.string());
+    const auto lines = f.file == traced.file
+                           ? traced.lines
+                           : analysis::trace_streamlines(fluid, seed, so, f.file.string());
     const std::string stem = fmt::format("streamlines_{:03d}", i);
     render_streamlines(lines, boundary_surface(fluid), {view}, {"speed [m/s]", 0.0, o.speed_max},
                        fmt::format("streamlines from {}, t = {} s", seed.name, f.time), dir, stem);
@@ -421,6 +431,7 @@ int make_pictures(const PicturesOptions& o) {
     record["scan"] = scan->record();
   }
   std::vector<PlaneGroup> groups = plane_groups(landmarks);
+  TracedFrame traced;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const analysis::PictureFrame& f = frames[i];
     const fs::path dir = out / folder_of(f);
@@ -440,6 +451,7 @@ int make_pictures(const PicturesOptions& o) {
       so.seed_spacing = o.seed_spacing;
       seeds = analysis::seed_points(fluid, seed, so, f.frame.file.string());
       const auto lines = analysis::trace_streamlines(fluid, seeds, so);
+      traced = {f.frame.file, lines};
       analysis::write_vtp(lines, dir / "streamlines.vtp");
       entry["streamlines"] = {{"file", "streamlines.vtp"},
                               {"seed_landmark", seed.name},
@@ -489,7 +501,7 @@ int make_pictures(const PicturesOptions& o) {
                  dir.string());
   }
   if (o.animate && o.png)
-    record["animation"] = animate(*cycle, seed, views, o, out);
+    record["animation"] = animate(*cycle, seed, views, o, traced, out);
   io::write_file_atomically(out / "pictures.json", record.dump(2) + "\n");
   if (!o.quiet)
     fmt::print("wrote '{}'\n", (out / "pictures.json").string());
