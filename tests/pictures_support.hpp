@@ -6,7 +6,9 @@
 // and how much of a picture is drawn.
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 
 #include <vtkDataArray.h>
@@ -74,6 +76,19 @@ inline double drawn_fraction(const std::filesystem::path& png) {
         break;
       }
   return static_cast<double>(drawn) / static_cast<double>(rgb->GetNumberOfTuples());
+}
+
+/// The number of frames an animated PNG's acTL chunk declares; 0 when it has none.
+inline unsigned apng_frame_count(const std::filesystem::path& png) {
+  std::ifstream in(png, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t actl = bytes.find("acTL");
+  if (actl == std::string::npos || actl + 8 > bytes.size())
+    return 0;
+  const auto byte = [&](std::size_t k) {
+    return static_cast<unsigned>(static_cast<unsigned char>(bytes[k]));
+  };
+  return (byte(actl + 4) << 24) | (byte(actl + 5) << 16) | (byte(actl + 6) << 8) | byte(actl + 7);
 }
 
 } // namespace tearflow::testing

@@ -337,6 +337,49 @@ TEST(ScanPictures, StreamlinesStartFromTheRunsSeedsAndStayInTheLumen) {
   }
 }
 
+TEST(ScanPictures, TheScansAnimationPlaysBesideTheRunsFromItsSeeds) {
+  // `--animate --mri`: the scan's streamlines of each of its frames, from the run's seeds in
+  // the run's camera (scan_frame's tracing, checked above), as an animation of the same view
+  // and the same pace as the run's, on the same row of the report.
+  const ScannedRun s;
+  const testing::Result r = testing::run_tearflow(
+      fmt::format("pictures {} --mri {} --mri-venc {} --speed-max {} --animate",
+                  (s.dir / "run").string(), (s.dir / "scan").string(), kVenc, kSpeedMax));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto out = report::flow_pictures_dir(s.dir / "run");
+  const nlohmann::json record = testing::read_json(out / "pictures.json");
+  ASSERT_TRUE(record.contains("scan_animation")) << record.dump(2).substr(0, 2000);
+  const nlohmann::json &run = record["animation"], &scan = record["scan_animation"];
+  const unsigned frames = static_cast<unsigned>(s.run.frames - 1); // the scan's (fixture)
+  EXPECT_EQ(scan["frames"], frames);
+  EXPECT_EQ(testing::apng_frame_count(out / scan["file"].get<std::string>()), frames);
+  EXPECT_EQ(scan["file"], "mri_" + run["file"].get<std::string>());
+  EXPECT_EQ(scan["view"], run["view"]);
+  // The scan's frame k is the run's saved frame k (t = k T / 8).
+  for (unsigned k = 0; k < frames; ++k)
+    EXPECT_NEAR(scan["frame_times_s"][k].get<double>(), run["frame_times_s"][k].get<double>(), 1e-9)
+        << "frame " << k;
+  // One pace: each cycle lasts the same within one frame's delay (integer milliseconds).
+  const int run_ms = run["frames"].get<int>() * run["frame_delay_ms"].get<int>(),
+            scan_ms = scan["frames"].get<int>() * scan["frame_delay_ms"].get<int>();
+  EXPECT_LE(std::abs(run_ms - scan_ms),
+            std::max(run["frame_delay_ms"].get<int>(), scan["frame_delay_ms"].get<int>()));
+  for (unsigned k = 0; k < frames; ++k)
+    EXPECT_GT(testing::drawn_fraction(
+                  out / "animation" /
+                  fmt::format("mri_streamlines_{:03d}_{}.png", k, scan["view"].get<std::string>())),
+              0.0)
+        << "frame " << k;
+
+  // The report: the scan's animation in the scan's column, on the run's animation's row.
+  const std::string section = report::flow_patterns_section({s.dir / "run"}, {"OR"});
+  const std::size_t at = section.find("alt='../" + run["file"].get<std::string>() + "'");
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t row_end = section.find("</tr>", at);
+  EXPECT_NE(section.substr(at, row_end - at).find("alt='../" + scan["file"].get<std::string>()),
+            std::string::npos);
+}
+
 TEST(ScanPictures, BadScanInputIsAClearError) {
   const ScannedRun s(false); // both errors come before the scan is read
   const auto run = (s.dir / "run").string();

@@ -42,6 +42,14 @@ struct Column {
   std::vector<std::string> files;
 };
 
+/// A run's picture's name in a column with `prefix`: the prefix before the file's own name
+/// ("../streamlines_flap_animation.png" -> "../mri_streamlines_flap_animation.png").
+std::string prefixed(const std::string& prefix, const std::string& file) {
+  const std::size_t slash = file.rfind('/');
+  const std::size_t at = slash == std::string::npos ? 0 : slash + 1;
+  return file.substr(0, at) + prefix + file.substr(at);
+}
+
 std::vector<std::string> files_of(const json& frame) {
   std::vector<std::string> files;
   for (const json& picture : frame.value("pictures", json::array()))
@@ -70,11 +78,16 @@ std::vector<Column> run_columns(const std::filesystem::path& run_dir, const std:
   if (j.contains("animation") && j["animation"].is_object())
     run.files.push_back("../" + j["animation"].value("file", ""));
   std::vector<Column> columns = {run};
-  if (f.contains("scan") && f["scan"].is_object() && f["scan"].contains("pictures"))
-    columns.push_back(
-        {fmt::format("{}: 4D-flow MRI, scan frame {} ({} s after the trigger)", name,
-                     f["scan"].value("frame", 0), f["scan"].value("time_after_trigger_s", 0.0)),
-         run.folder, "mri_", files_of(f["scan"])});
+  if (f.contains("scan") && f["scan"].is_object() && f["scan"].contains("pictures")) {
+    Column scan{fmt::format("{}: 4D-flow MRI, scan frame {} ({} s after the trigger)", name,
+                            f["scan"].value("frame", 0),
+                            f["scan"].value("time_after_trigger_s", 0.0)),
+                run.folder, "mri_", files_of(f["scan"])};
+    // The scan's animation, from the run's seeds, beside the run's (`--animate --mri`).
+    if (j.contains("scan_animation") && j["scan_animation"].is_object())
+      scan.files.push_back("../" + j["scan_animation"].value("file", ""));
+    columns.push_back(scan);
+  }
   return columns;
 }
 
@@ -117,7 +130,7 @@ std::string flow_patterns_section(const std::vector<std::filesystem::path>& run_
     html += "<tr>";
     for (const Column& c : columns) {
       html += "<td style='width:" + width + "'>";
-      const std::string name = c.prefix + file;
+      const std::string name = prefixed(c.prefix, file);
       if (std::find(c.files.begin(), c.files.end(), name) != c.files.end()) {
         const std::string bytes = read_bytes(c.folder / name);
         if (!bytes.empty())

@@ -23,7 +23,7 @@
 #include "geometry/geometry_report.hpp"
 #include "io/durable_file.hpp"
 #include "io/vtu_series.hpp"
-#include "report/apng.hpp"
+#include "report/cycle_animation.hpp"
 #include "report/flow_pictures.hpp"
 #include "report/paraview_state.hpp"
 #include "report/scan_pictures.hpp"
@@ -271,53 +271,6 @@ StateScene state_scene(const RunFiles& run, const fs::path& out, const json& ent
   return s;
 }
 
-/// Streamlines already traced through one frame's file.
-struct TracedFrame {
-  fs::path file;
-  vtkSmartPointer<vtkPolyData> lines;
-};
-
-/// The streamlines of every frame of the cycle from one view (the flap's, else the first),
-/// each frame's PNG in animation/ and the animated PNG beside the frame folders. A frame that
-/// `traced` holds (the pictures' first, peak systole) is not traced again.
-json animate(const analysis::CycleFrames& cycle, const geometry::Landmark& seed,
-             const std::vector<View>& views, const PicturesOptions& o, const TracedFrame& traced,
-             const fs::path& out) {
-  const View& view = views.back().name == "flap" ? views.back() : views.front();
-  const fs::path dir = out / "animation";
-  fs::create_directories(dir);
-  std::vector<fs::path> pngs;
-  analysis::StreamlineOptions so;
-  so.seed_spacing = o.seed_spacing;
-  for (std::size_t i = 0; i < cycle.frames.size(); ++i) {
-    const analysis::FlowFrame& f = cycle.frames[i];
-    const auto fluid = analysis::read_flow_frame(f.file);
-    const auto lines = f.file == traced.file
-                           ? traced.lines
-                           : analysis::trace_streamlines(fluid, seed, so, f.file.string());
-    const std::string stem = fmt::format("streamlines_{:03d}", i);
-    render_streamlines(lines, boundary_surface(fluid), {view}, {"speed [m/s]", 0.0, o.speed_max},
-                       fmt::format("streamlines from {}, t = {} s", seed.name, f.time), dir, stem);
-    pngs.push_back(dir / (stem + "_" + view.name + ".png"));
-  }
-  // The cycle in about 4 s however many frames were saved (20-500 ms each).
-  const int delay_ms = std::clamp(static_cast<int>(4000 / pngs.size()), 20, 500);
-  const fs::path file = out / ("streamlines_" + view.name + "_animation.png");
-  write_apng(pngs, delay_ms, file);
-  if (!o.quiet)
-    fmt::print("animation of {} frames: '{}'\n", pngs.size(), file.string());
-  return {{"file", file.filename().string()},
-          {"view", view.name},
-          {"frames", pngs.size()},
-          {"frame_delay_ms", delay_ms},
-          {"frame_times_s", [&] {
-             json t = json::array();
-             for (const analysis::FlowFrame& f : cycle.frames)
-               t.push_back(f.time);
-             return t;
-           }()}};
-}
-
 /// The scan's pictures of the run frame of `event` (none when the scan has no such frame):
 /// streamlines from the run's `seeds` (when given) in the run's camera (`bounds` its lumen's),
 /// and the plane maps in the run's views and arrow spacing; files prefixed "mri_".
@@ -431,7 +384,9 @@ int make_pictures(const PicturesOptions& o) {
     record["scan"] = scan->record();
   }
   std::vector<PlaneGroup> groups = plane_groups(landmarks);
-  TracedFrame traced;
+  TracedFrame traced;                     // the first frame's streamlines,
+  vtkSmartPointer<vtkPolyData> run_seeds; // their seeds
+  double run_bounds[6];                   // and the box their cameras frame
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const analysis::PictureFrame& f = frames[i];
     const fs::path dir = out / folder_of(f);
@@ -452,6 +407,8 @@ int make_pictures(const PicturesOptions& o) {
       seeds = analysis::seed_points(fluid, seed, so, f.frame.file.string());
       const auto lines = analysis::trace_streamlines(fluid, seeds, so);
       traced = {f.frame.file, lines};
+      run_seeds = seeds;
+      std::copy(bounds, bounds + 6, run_bounds);
       analysis::write_vtp(lines, dir / "streamlines.vtp");
       entry["streamlines"] = {{"file", "streamlines.vtp"},
                               {"seed_landmark", seed.name},
@@ -500,8 +457,12 @@ int make_pictures(const PicturesOptions& o) {
       fmt::print("{} (t = {} s): {} pictures in '{}'\n", f.event, f.frame.time, pictures.size(),
                  dir.string());
   }
-  if (o.animate && o.png)
-    record["animation"] = animate(*cycle, seed, views, o, traced, out);
+  if (o.animate && o.png) {
+    record["animation"] = animate_run(*cycle, seed, animation_view(views), o, traced, out);
+    if (scan)
+      record["scan_animation"] =
+          animate_scan(*scan, run_seeds, run_bounds, animation_view(views), o, out);
+  }
   io::write_file_atomically(out / "pictures.json", record.dump(2) + "\n");
   if (!o.quiet)
     fmt::print("wrote '{}'\n", (out / "pictures.json").string());
@@ -540,7 +501,8 @@ PicturesCommand::PicturesCommand(CLI::App& app) {
                        "output directory (default RUN_DIR/analysis/figures/flow)");
   command_->add_flag("--no-png", no_png_, "the VTP files and pictures.json only, no rendering");
   command_->add_flag("--animate", options_.animate,
-                     "also the streamlines of every frame of the cycle as an animated PNG");
+                     "also the streamlines of every frame of the cycle (and of the --mri "
+                     "scan's) as an animated PNG");
   command_->add_option("--view", options_.views,
                        "a view of the streamline and wall pictures (repeatable): anterior, "
                        "left-lateral, flap, or NAME:X,Y,Z, a camera from the direction X,Y,Z "

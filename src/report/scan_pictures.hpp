@@ -42,6 +42,7 @@ public:
   /// The scan's frame of "peak systole" or "mid-diastole"; none for another event or when the
   /// scan's flow has no such frame.
   std::optional<std::size_t> frame_of(const std::string& event) const;
+  std::size_t frames() const { return data_.frames.size(); }
   double time_of(std::size_t frame) const { return data_.frames.at(frame).time; }
   /// The frame as a fluid grid in model coordinates (mri::lumen_field).
   vtkSmartPointer<vtkUnstructuredGrid> field(std::size_t frame) const;
