@@ -406,6 +406,14 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
     const Result r = run_tearflow(args);
     ASSERT_EQ(r.code, 0) << r.output;
   };
+  // The held-out `variant` predicted with the calibration in place, against its 3D stations.
+  auto predict_within_criterion = [&](const std::string& variant, const fs::path& case_file,
+                                      const Stations& d3, const std::string& out,
+                                      const std::string& what, double fr_points = 5.0) {
+    const Stations rom = predict_variant(model, variant, case_file, dir / out);
+    for (int k = 0; k < 5; ++k)
+      expect_within_criterion(rom, d3, k, what, fr_points);
+  };
   const Stations en3d = stored_stations("EN", g, en_case, "rigid", data);
   const Stations ex3d = stored_stations("EX", g, ex_case, "rigid", data);
   const Stations en120_3d = stored_stations("EN120", g, en120_case, "rigid", data);
@@ -438,14 +446,10 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   const nlohmann::json fit = read_json(model / "rom" / "calibration.json")["rigid"]["coefficients"];
   EXPECT_GE(fit["viscous_factor"].get<double>(), 1.0);
   EXPECT_LT(std::abs(fit["tear_size_exponents"]["exit"].get<double>()), 1.0);
-  const Stations en2 = predict_variant(model, "EN", en_case, dir / "en-two-sizes");
-  for (int k = 0; k < 5; ++k)
-    expect_within_criterion(en2, en3d, k, "OR + EX -> EN");
+  predict_within_criterion("EN", en_case, en3d, "en-two-sizes", "OR + EX -> EN");
 
   ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EN"}, "rigid"));
-  const Stations ex2 = predict_variant(model, "EX", ex_case, dir / "ex-two-sizes");
-  for (int k = 0; k < 5; ++k)
-    expect_within_criterion(ex2, ex3d, k, "OR + EN -> EX");
+  predict_within_criterion("EX", ex_case, ex3d, "ex-two-sizes", "OR + EN -> EX");
 
   // With the wall (results/tbad-3mm-n6-fsi, the same meshes), calibrated on the FSI OR alone
   // (the fit kept before EN ran): the held-out FSI EN's dP within the criterion at every
@@ -456,27 +460,19 @@ TEST(RomModel, HeldOutVariantsWithTheTrueLumenResolved) {
   stored_case("OR", model, dir, "fsi", data); // dir/OR-fsi.yaml, which `calibrate` reads
   const Stations en_fsi3d = stored_stations("EN", g, en_fsi_case, "fsi", data);
   ASSERT_NO_FATAL_FAILURE(calibrate({"OR"}, "fsi"));
-  const Stations en_fsi = predict_variant(model, "EN", en_fsi_case, dir / "en-fsi");
-  for (int k = 0; k < 5; ++k)
-    expect_within_criterion(en_fsi, en_fsi3d, k, "FSI OR -> EN", 6.5);
+  predict_within_criterion("EN", en_fsi_case, en_fsi3d, "en-fsi", "FSI OR -> EN", 6.5);
   // FSI EX (run after the fit was kept, as EN), held out from the same fit: within the
   // criterion, FR_FL 1.7 points (58.7 against 60.4 %), dP within 2.9 mmHg (station 5, where
   // 4.6 are allowed).
   const fs::path ex_fsi_case = stored_case("EX", model, dir, "fsi", data);
   const Stations ex_fsi3d = stored_stations("EX", g, ex_fsi_case, "fsi", data);
-  const Stations ex_fsi = predict_variant(model, "EX", ex_fsi_case, dir / "ex-fsi");
-  for (int k = 0; k < 5; ++k)
-    expect_within_criterion(ex_fsi, ex_fsi3d, k, "FSI OR -> EX");
+  predict_within_criterion("EX", ex_fsi_case, ex_fsi3d, "ex-fsi", "FSI OR -> EX");
   // Calibrated on FSI OR and the other small-tear variant, as the rigid runs above: both
   // within the criterion (OR + EX -> EN 3.3 points, OR + EN -> EX 0.1 points; dP within 2.6
   // and 3.4 mmHg, the latter at station 5 where 4.6 are allowed).
   ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EX"}, "fsi"));
-  const Stations en_fsi2 = predict_variant(model, "EN", en_fsi_case, dir / "en-fsi-two-sizes");
-  for (int k = 0; k < 5; ++k)
-    expect_within_criterion(en_fsi2, en_fsi3d, k, "FSI OR + EX -> EN");
+  predict_within_criterion("EN", en_fsi_case, en_fsi3d, "en-fsi-two-sizes", "FSI OR + EX -> EN");
   ASSERT_NO_FATAL_FAILURE(calibrate({"OR", "EN"}, "fsi"));
-  const Stations ex_fsi2 = predict_variant(model, "EX", ex_fsi_case, dir / "ex-fsi-two-sizes");
-  for (int k = 0; k < 5; ++k)
-    expect_within_criterion(ex_fsi2, ex_fsi3d, k, "FSI OR + EN -> EX");
+  predict_within_criterion("EX", ex_fsi_case, ex_fsi3d, "ex-fsi-two-sizes", "FSI OR + EN -> EX");
   fs::remove_all(dir);
 }

@@ -386,7 +386,7 @@ int make_pictures(const PicturesOptions& o) {
   std::vector<PlaneGroup> groups = plane_groups(landmarks);
   TracedFrame traced;                     // the first frame's streamlines,
   vtkSmartPointer<vtkPolyData> run_seeds; // their seeds
-  double run_bounds[6];                   // and the box their cameras frame
+  double run_bounds[6] = {};              // and the box their cameras frame
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const analysis::PictureFrame& f = frames[i];
     const fs::path dir = out / folder_of(f);
