@@ -74,10 +74,8 @@ void print_station(const Stations& rom, const Stations& d3, int k, const std::st
               k + 1, rom.fr[k], d3.fr[k], rom.dp[k], d3.dp[k]);
 }
 
-/// The criterion at one station: FR_FL within 5 points, peak-systolic dP within
-/// 3 mmHg or 20 %.
-/// The criterion at station k; `fr_points` above its 5 holds a documented miss of FR_FL
-/// to its measured error.
+/// The criterion at station k: FR_FL within 5 points, peak-systolic dP within 3 mmHg or
+/// 20 %; `fr_points` above 5 holds a documented miss of FR_FL to its measured error.
 void expect_within_criterion(const Stations& rom, const Stations& d3, int k,
                              const std::string& what, double fr_points = 5.0) {
   print_station(rom, d3, k, what);
