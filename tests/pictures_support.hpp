@@ -78,6 +78,32 @@ inline double drawn_fraction(const std::filesystem::path& png) {
   return static_cast<double>(drawn) / static_cast<double>(rgb->GetNumberOfTuples());
 }
 
+/// The share of the pixels left of `x_fraction` of a PNG's width that are strongly coloured
+/// (largest minus smallest channel >= 100): a colour map's hues, not the grey lumen, the white
+/// background, the black caption or (with x_fraction left of it) the colour bar.
+inline double coloured_fraction(const std::filesystem::path& png, double x_fraction) {
+  auto reader = vtkSmartPointer<vtkPNGReader>::New();
+  reader->SetFileName(png.c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  vtkDataArray* rgb = image->GetPointData()->GetScalars();
+  if (rgb == nullptr || rgb->GetNumberOfComponents() < 3)
+    return 0.0;
+  const int width = image->GetDimensions()[0], height = image->GetDimensions()[1];
+  const int columns = static_cast<int>(x_fraction * width);
+  vtkIdType coloured = 0;
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < columns; ++i) {
+      const vtkIdType p = static_cast<vtkIdType>(j) * width + i;
+      const double r = rgb->GetComponent(p, 0), g = rgb->GetComponent(p, 1),
+                   b = rgb->GetComponent(p, 2);
+      if (std::max({r, g, b}) - std::min({r, g, b}) >= 100)
+        ++coloured;
+    }
+  return columns > 0 ? static_cast<double>(coloured) / (static_cast<double>(columns) * height)
+                     : 0.0;
+}
+
 /// The number of frames an animated PNG's acTL chunk declares; 0 when it has none.
 inline unsigned apng_frame_count(const std::filesystem::path& png) {
   std::ifstream in(png, std::ios::binary);
