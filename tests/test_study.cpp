@@ -81,6 +81,16 @@ TEST(Study, BadStudyFileIsAClearError) {
         << n.output;
   }
 
+  // --only names variants of the study.
+  {
+    const testing::Result o =
+        testing::run_tearflow("study --check " + write_study(dir).string() + " --only EX");
+    EXPECT_EQ(o.code, 2) << o.output;
+    EXPECT_NE(o.output.find("--only: 'EX' is not a variant of study"), std::string::npos)
+        << o.output;
+    EXPECT_NE(o.output.find("its variants: OR, EN"), std::string::npos) << o.output;
+  }
+
   // The reduced-order maps' ranges are checked with the file, before any stage.
   std::string sweep = read_text(write_study(dir));
   sweep.replace(sweep.find("\"40:240\""), 8, "\"240:40\"");
@@ -113,9 +123,20 @@ TEST(Study, ASecondStudyOnTheSameOutputIsRefused) {
 
 TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
   const fs::path a = testing::fresh_dir("study-a");
-  testing::Result r = testing::run_tearflow("study " + write_study(a).string());
-  ASSERT_EQ(r.code, 0) << r.output;
   const fs::path out = a / "results";
+  // `--only EN` runs EN's stages alone; the study-wide ones wait for OR.
+  testing::Result r = testing::run_tearflow("study " + write_study(a).string() + " --only EN");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "EN" / "run" / "analysis" / "metrics.json"));
+  EXPECT_FALSE(fs::exists(out / "OR" / "geometry")) << r.output;
+  EXPECT_FALSE(fs::exists(out / "report.html")) << r.output;
+  EXPECT_EQ(r.output.find("[OR "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wait for OR: run the study without --only"), std::string::npos)
+      << r.output;
+  // The whole study then runs OR's stages and the study-wide ones, not EN's again.
+  r = testing::run_tearflow("study " + (a / "study.yaml").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("[EN "), std::string::npos) << r.output;
   for (const char* v : {"OR", "EN"})
     for (const char* file : {"geometry/mesh.msh", "geometry/landmarks.json", "case.yaml",
                              "targets.yaml", "tuned.yaml", "run/flow.pvd", "run/cycles.json",

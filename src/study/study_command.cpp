@@ -1,5 +1,7 @@
 #include "study/study_command.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "core/error.hpp"
@@ -31,6 +33,11 @@ StudyCommand::StudyCommand(CLI::App& app) {
                                          "comparison report, resumable (docs/study.md)");
   command_->add_option("study", file_, "study file (YAML)")->required();
   command_->add_flag("--check", check_, "only read and check the study file");
+  command_
+      ->add_option("--only", only_,
+                   "run only these variants' stages (comma-separated names); the study-wide "
+                   "stages (reduced-order model, report) run once every variant is done")
+      ->delimiter(',');
 }
 
 int StudyCommand::run() const {
@@ -38,12 +45,21 @@ int StudyCommand::run() const {
     input_error("run `tearflow study` as one process: it starts its stages on the study "
                 "file's `ranks` itself");
   const StudySpec spec = load_study(file_, geometry_tbad_options());
+  for (const std::string& name : only_)
+    if (std::none_of(spec.variants.begin(), spec.variants.end(),
+                     [&](const Variant& v) { return v.name == name; })) {
+      std::string names;
+      for (const Variant& v : spec.variants)
+        names += (names.empty() ? "" : ", ") + v.name;
+      input_error("--only: '{}' is not a variant of study '{}' ({}); its variants: {}", name,
+                  spec.name, spec.file.string(), names);
+    }
   if (check_) {
     fmt::print("study '{}': {} variant(s), case '{}', {} rank(s), output '{}'\n", spec.name,
                spec.variants.size(), spec.case_file.string(), spec.ranks, spec.output.string());
     return 0;
   }
-  StudyRunner runner(spec, self_executable());
+  StudyRunner runner(spec, self_executable(), only_);
   return runner.run();
 }
 

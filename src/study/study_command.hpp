@@ -2,6 +2,7 @@
 // `tearflow study STUDY.yaml`: the command-line edge of the study (study/study_runner.hpp,
 // docs/study.md).
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -18,6 +19,7 @@ private:
   CLI::App* command_ = nullptr;
   std::string file_;
   bool check_ = false;
+  std::vector<std::string> only_; ///< --only: these variants' stages, none of the others'
 };
 
 } // namespace tearflow::study

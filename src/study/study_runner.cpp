@@ -1,5 +1,6 @@
 #include "study/study_runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <map>
@@ -62,8 +63,9 @@ std::string key_of(const std::string& variant, const std::string& stage) {
 
 } // namespace
 
-StudyRunner::StudyRunner(StudySpec spec, std::filesystem::path tearflow)
-    : spec_(std::move(spec)), tearflow_(std::move(tearflow)) {
+StudyRunner::StudyRunner(StudySpec spec, std::filesystem::path tearflow,
+                         std::vector<std::string> only)
+    : spec_(std::move(spec)), tearflow_(std::move(tearflow)), only_(std::move(only)) {
   std::filesystem::create_directories(spec_.output);
   record_ = read_json(spec_.output / "study.json");
   if (!record_.is_object() || !record_.contains("stages"))
@@ -91,7 +93,7 @@ std::filesystem::path StudyRunner::ran_case(const Variant& v) const {
                             : dir(v) / "case.yaml";
 }
 
-std::vector<StudyRunner::Stage> StudyRunner::stages() const {
+std::vector<StudyRunner::Stage> StudyRunner::all_stages() const {
   std::vector<Stage> out;
   for (const Variant& v : spec_.variants) {
     if (!v.model)
@@ -112,6 +114,24 @@ std::vector<StudyRunner::Stage> StudyRunner::stages() const {
     out.push_back({nullptr, "rom_sweep"});
   }
   out.push_back({nullptr, "report"});
+  return out;
+}
+
+bool StudyRunner::chosen(const Variant& v) const {
+  return only_.empty() || std::find(only_.begin(), only_.end(), v.name) != only_.end();
+}
+
+std::vector<StudyRunner::Stage> StudyRunner::stages() const {
+  const std::vector<Stage> all = all_stages();
+  // The study-wide stages use every variant's results: they wait while another variant has
+  // a stage left.
+  const bool others_done = std::all_of(all.begin(), all.end(), [&](const Stage& s) {
+    return s.variant == nullptr || chosen(*s.variant) || finished(s);
+  });
+  std::vector<Stage> out;
+  for (const Stage& s : all)
+    if (s.variant != nullptr ? chosen(*s.variant) : others_done)
+      out.push_back(s);
   return out;
 }
 
@@ -381,6 +401,8 @@ int StudyRunner::run() {
   started_ = now();
   const OutputLock lock(spec_.output); // one study at a time in this folder
   for (const Variant& v : spec_.variants) {
+    if (!chosen(v))
+      continue;
     bool changed = false;
     for (const auto& [key, entry] : record_["stages"].items())
       changed = changed || (key.rfind(v.name + "/", 0) == 0 &&
@@ -400,10 +422,15 @@ int StudyRunner::run() {
       continue;
     // The study-wide stages after this one (the ROM's, the report) use what it makes: they
     // run again, also when this study is interrupted and run once more.
+    // (With --only they may not be in this invocation's list: they are forgotten all the same.)
+    const std::vector<Stage> every = all_stages();
+    const auto here = std::find_if(every.begin(), every.end(), [&](const Stage& e) {
+      return e.variant == s.variant && e.name == s.name;
+    });
     std::size_t erased = 0;
-    for (std::size_t j = i + 1; j < all.size(); ++j)
-      if (all[j].variant == nullptr)
-        erased += record_["stages"].erase(key_of("", all[j].name));
+    for (auto later = here + 1; later < every.end(); ++later)
+      if (later->variant == nullptr)
+        erased += record_["stages"].erase(key_of("", later->name));
     if (erased > 0)
       io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
     progress(i, all.size());
@@ -433,6 +460,20 @@ int StudyRunner::run() {
                                      "targets.yaml",
                                  std::filesystem::copy_options::overwrite_existing);
     record(s, now() - t0);
+  }
+  if (all.empty() || all.back().variant != nullptr) { // --only, with other variants left
+    std::string waiting;
+    for (const Variant& v : spec_.variants) {
+      const std::vector<Stage> every = all_stages();
+      if (std::any_of(every.begin(), every.end(),
+                      [&](const Stage& s) { return s.variant == &v && !finished(s); }))
+        waiting += (waiting.empty() ? "" : ", ") + v.name;
+    }
+    fmt::print("study '{}': the chosen variants are done in {}; the study-wide stages (report, "
+               "summary{}) wait for {}: run the study without --only once they are done\n",
+               spec_.name, minutes(now() - started_),
+               spec_.rom_sweep ? ", reduced-order model" : "", waiting);
+    return 0;
   }
   write_summary();
   fmt::print("study '{}' done in {}: report '{}', summary '{}'\n", spec_.name,

@@ -22,8 +22,9 @@ namespace tearflow::study {
 
 class StudyRunner {
 public:
-  /// `tearflow`: the program the stages run (normally this one).
-  StudyRunner(StudySpec spec, std::filesystem::path tearflow);
+  /// `tearflow`: the program the stages run (normally this one). `only`: the variants whose
+  /// stages run (empty: all); the study-wide stages run once every variant's are done.
+  StudyRunner(StudySpec spec, std::filesystem::path tearflow, std::vector<std::string> only = {});
 
   /// Runs what is left to do; returns 0, or the exit code of the stage that failed (after
   /// saying which and where its log is).
@@ -37,7 +38,12 @@ private:
 
   std::filesystem::path dir(const Variant& v) const { return spec_.output / v.name; }
   std::filesystem::path geometry_dir(const Variant& v) const;
+  /// Every stage of the study, in order.
+  std::vector<Stage> all_stages() const;
+  /// The stages this invocation runs: the chosen variants' (`--only`), and the study-wide
+  /// ones when no other variant has a stage left.
   std::vector<Stage> stages() const;
+  bool chosen(const Variant& v) const;
   std::string stage_fingerprint(const Stage& s) const;
   bool finished(const Stage& s) const;
   void record(const Stage& s, double seconds);
@@ -58,8 +64,9 @@ private:
 
   StudySpec spec_;
   std::filesystem::path tearflow_;
-  nlohmann::json record_; ///< OUT/study.json
-  double started_ = 0;    ///< wall clock of this invocation's start [s]
+  std::vector<std::string> only_; ///< empty: every variant
+  nlohmann::json record_;         ///< OUT/study.json
+  double started_ = 0;            ///< wall clock of this invocation's start [s]
 };
 
 } // namespace tearflow::study
