@@ -61,7 +61,7 @@ json animate_run(const analysis::CycleFrames& cycle, const geometry::Landmark& s
                            ? traced.lines
                            : analysis::trace_streamlines(fluid, seed, so, f.file.string());
     const std::string stem = fmt::format("streamlines_{:03d}", i);
-    render_streamlines(lines, boundary_surface(fluid), {view}, {"speed [m/s]", 0.0, o.speed_max},
+    render_streamlines(lines, boundary_surface(fluid), {view}, speed_scale(o.speed_max),
                        fmt::format("streamlines from {}, t = {} s", seed.name, f.time), dir, stem);
     return dir / (stem + "_" + view.name + ".png");
   };
@@ -78,7 +78,7 @@ json animate_scan(const ScanPictures& scan, vtkPolyData* seeds, const double* bo
     const auto field = scan.field(k);
     const auto lines = analysis::trace_streamlines(field, seeds, so);
     const std::string stem = fmt::format("mri_streamlines_{:03d}", k);
-    render_streamlines(lines, boundary_surface(field), {view}, {"speed [m/s]", 0.0, o.speed_max},
+    render_streamlines(lines, boundary_surface(field), {view}, speed_scale(o.speed_max),
                        fmt::format("4D-flow MRI: streamlines, scan frame {} ({} s after the "
                                    "trigger)",
                                    k, scan.time_of(k)),

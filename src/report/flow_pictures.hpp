@@ -39,6 +39,17 @@ struct ColourScale {
   double min = 0.0, max = 1.0;
 };
 
+/// The scales every picture of a run shares, so that its pictures, animations and ParaView
+/// state compare: speed on 0..speed_max, through-plane velocity on +-speed_max [m/s].
+inline constexpr const char* kSpeedTitle = "speed [m/s]";
+inline constexpr const char* kThroughPlaneTitle = "u.n [m/s]";
+inline ColourScale speed_scale(double speed_max) {
+  return {kSpeedTitle, 0.0, speed_max};
+}
+inline ColourScale through_plane_scale(double speed_max) {
+  return {kThroughPlaneTitle, -speed_max, speed_max};
+}
+
 struct PictureSize {
   int width = 900, height = 1100; ///< [pixels]
 };

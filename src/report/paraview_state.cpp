@@ -12,9 +12,7 @@ namespace tearflow::report {
 
 namespace {
 
-// The picture's scalar-bar titles and the lumen's colour (flow_pictures.cpp).
-constexpr const char* kSpeedTitle = "speed [m/s]";
-constexpr const char* kThroughPlaneTitle = "u.n [m/s]";
+// The lumen's colour (flow_pictures.cpp); the scalar bars' titles are the pictures' own.
 const std::vector<double> kLumenColour{0.75, 0.6, 0.55};
 constexpr double kLumenOpacity = 0.12;
 // VTK's and ParaView's default view angle [deg], which the pictures' cameras keep.

@@ -189,7 +189,7 @@ json plane_maps(vtkUnstructuredGrid* fluid, const geometry::Landmarks& landmarks
   }
   if (!o.png)
     return out;
-  const ColourScale scale{"u.n [m/s]", -o.speed_max, o.speed_max};
+  const ColourScale scale = through_plane_scale(o.speed_max);
   const double arrow_speed = in_plane_arrow_speed(o);
   for (PlaneGroup& g : groups) {
     std::vector<const analysis::PlaneMap*> drawn;
@@ -295,10 +295,10 @@ json scan_frame(const ScanPictures& scan, const std::string& event, vtkPolyData*
                             {"lines", lines->GetNumberOfLines()},
                             {"points", lines->GetNumberOfPoints()}};
     if (o.png)
-      for (const Picture& p : render_streamlines(
-               lines, boundary_surface(field), views, {"speed [m/s]", 0.0, o.speed_max},
-               fmt::format("4D-flow MRI: streamlines, {}, {}", event, name), dir, "mri_streamlines",
-               {}, bounds))
+      for (const Picture& p :
+           render_streamlines(lines, boundary_surface(field), views, speed_scale(o.speed_max),
+                              fmt::format("4D-flow MRI: streamlines, {}, {}", event, name), dir,
+                              "mri_streamlines", {}, bounds))
         pictures.push_back(picture_json(p));
   }
   entry["planes"] = plane_maps(field, landmarks, name, fmt::format("4D-flow MRI, {}, ", event), o,
@@ -417,9 +417,9 @@ int make_pictures(const PicturesOptions& o) {
       if (o.png) {
         const std::string caption =
             fmt::format("streamlines from {}, {} (t = {} s)", seed.name, f.event, f.frame.time);
-        for (const Picture& p : render_streamlines(lines, boundary_surface(fluid), views,
-                                                   {"speed [m/s]", 0.0, o.speed_max}, caption, dir,
-                                                   "streamlines", {}, bounds))
+        for (const Picture& p :
+             render_streamlines(lines, boundary_surface(fluid), views, speed_scale(o.speed_max),
+                                caption, dir, "streamlines", {}, bounds))
           pictures.push_back(picture_json(p));
       }
       // (read only for a picture: the wall has no VTP of its own)
