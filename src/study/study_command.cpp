@@ -37,7 +37,9 @@ StudyCommand::StudyCommand(CLI::App& app) {
       ->add_option("--only", only_,
                    "run only these variants' stages (comma-separated names); the study-wide "
                    "stages (reduced-order model, report) run once every variant is done")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false) // `--only EN study.yaml`: the file is not a variant's name
+      ->take_all();             // `--only OR --only EN` as `--only OR,EN`
 }
 
 int StudyCommand::run() const {

@@ -368,9 +368,8 @@ int StudyRunner::execute(const Stage& s, const std::vector<std::string>& argv) {
   });
 }
 
-void StudyRunner::progress(std::size_t index, std::size_t total) const {
+void StudyRunner::progress(const std::vector<Stage>& all, std::size_t index) const {
   // ETA: the remaining stages at the mean duration recorded for their kind.
-  const std::vector<Stage> all = stages();
   std::map<std::string, std::pair<double, int>> spent; // stage kind -> (seconds, count)
   for (const auto& [key, entry] : record_["stages"].items()) {
     const std::string kind = key.substr(key.find('/') + 1);
@@ -391,7 +390,7 @@ void StudyRunner::progress(std::size_t index, std::size_t total) const {
       known = false;
   }
   const Stage& s = all[index];
-  fmt::print("study '{}': stage {}/{}: {}{} (elapsed {}, {})\n", spec_.name, index + 1, total,
+  fmt::print("study '{}': stage {}/{}: {}{} (elapsed {}, {})\n", spec_.name, index + 1, all.size(),
              s.variant ? s.variant->name + " " : "", s.name, minutes(now() - started_),
              known ? "ETA " + minutes(eta) : std::string("ETA after the first variant"));
   std::fflush(stdout);
@@ -433,7 +432,7 @@ int StudyRunner::run() {
         erased += record_["stages"].erase(key_of("", later->name));
     if (erased > 0)
       io::write_file_atomically(spec_.output / "study.json", record_.dump(2) + "\n");
-    progress(i, all.size());
+    progress(all, i);
     if (s.name == "rigid_run")
       write_rigid_case(*s.variant);
     const double t0 = now();

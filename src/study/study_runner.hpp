@@ -60,7 +60,8 @@ private:
   /// Runs a child; returns its exit code. `stage` labels the lines.
   int execute(const Stage& s, const std::vector<std::string>& argv);
   void write_summary() const;
-  void progress(std::size_t index, std::size_t total) const;
+  /// The line before stage `index` of this invocation's `stages` (as run() listed them).
+  void progress(const std::vector<Stage>& stages, std::size_t index) const;
 
   StudySpec spec_;
   std::filesystem::path tearflow_;
