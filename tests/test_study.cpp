@@ -88,7 +88,7 @@ TEST(Study, BadStudyFileIsAClearError) {
     EXPECT_EQ(o.code, 2) << o.output;
     EXPECT_NE(o.output.find("--only: 'EX' is not a variant of study"), std::string::npos)
         << o.output;
-    EXPECT_NE(o.output.find("its variants: OR, EN"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("its variants: OR and EN"), std::string::npos) << o.output;
   }
 
   // The reduced-order maps' ranges are checked with the file, before any stage.

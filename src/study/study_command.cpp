@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "core/names.hpp"
 #include "fem/petsc.hpp"
 #include "geometry/geometry_command.hpp"
 #include "study/child_process.hpp"
@@ -50,11 +51,11 @@ int StudyCommand::run() const {
   for (const std::string& name : only_)
     if (std::none_of(spec.variants.begin(), spec.variants.end(),
                      [&](const Variant& v) { return v.name == name; })) {
-      std::string names;
+      std::vector<std::string> names;
       for (const Variant& v : spec.variants)
-        names += (names.empty() ? "" : ", ") + v.name;
+        names.push_back(v.name);
       input_error("--only: '{}' is not a variant of study '{}' ({}); its variants: {}", name,
-                  spec.name, spec.file.string(), names);
+                  spec.name, spec.file.string(), join_names(names, "and"));
     }
   if (check_) {
     fmt::print("study '{}': {} variant(s), case '{}', {} rank(s), output '{}'\n", spec.name,

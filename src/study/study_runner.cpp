@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
+#include "core/names.hpp"
 #include "core/units.hpp"
 #include "geometry/landmarks.hpp"
 #include "geometry/sections.hpp"
@@ -461,17 +462,16 @@ int StudyRunner::run() {
     record(s, now() - t0);
   }
   if (all.empty() || all.back().variant != nullptr) { // --only, with other variants left
-    std::string waiting;
-    for (const Variant& v : spec_.variants) {
-      const std::vector<Stage> every = all_stages();
+    const std::vector<Stage> every = all_stages();
+    std::vector<std::string> waiting;
+    for (const Variant& v : spec_.variants)
       if (std::any_of(every.begin(), every.end(),
                       [&](const Stage& s) { return s.variant == &v && !finished(s); }))
-        waiting += (waiting.empty() ? "" : ", ") + v.name;
-    }
+        waiting.push_back(v.name);
     fmt::print("study '{}': the chosen variants are done in {}; the study-wide stages (report, "
                "summary{}) wait for {}: run the study without --only once they are done\n",
                spec_.name, minutes(now() - started_),
-               spec_.rom_sweep ? ", reduced-order model" : "", waiting);
+               spec_.rom_sweep ? ", reduced-order model" : "", join_names(waiting, "and"));
     return 0;
   }
   write_summary();
