@@ -169,6 +169,44 @@ TEST(CliRun, AOneProcessCommandOnTwoRanksSaysSoAndFailsOnceWithoutAbort) {
   EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
 }
 
+// Every rank reads or builds the whole mesh itself. Ranks holding different meshes (here two
+// cases differing in element size, launched side by side) crashed in the partition
+// (segmentation fault); a mesh file replaced while a run starts would do the same or run on
+// two meshes. Now all ranks compare the mesh's digest and stop with one clear error.
+TEST(CliRun, RanksHoldingDifferentMeshesStopWithOneClearError) {
+  const fs::path dir = tearflow::testing::fresh_dir("different-meshes");
+  fs::create_directories(dir);
+  auto write_case = [&](const std::string& size) {
+    const fs::path file = dir / ("pipe-" + size + ".yaml");
+    std::ofstream(file) << "name: pipe\n"
+                           "mesh:\n  pipe: {radius: 0.005, length: 0.04, element_size: "
+                        << size
+                        << "}\n"
+                           "fluid: {density: 1060, viscosity: 0.004}\n"
+                           "time: {step: 0.01, end: 0.02}\n"
+                           "boundary_conditions:\n"
+                           "  - {face: wall, type: no_slip}\n"
+                           "  - {face: inlet, type: inflow, profile: parabolic, flow: {times: [0, "
+                           "0.3, 0.6], values: [10, 10, 10], units: mL/s, period: 1.0}}\n"
+                           "  - {face: outlet, type: pressure, pressure: 0}\n";
+    return file.string();
+  };
+  const std::string out = " -q -o " + (dir / "run").string();
+  const Result r =
+      tearflow::testing::run_tearflow("run " + write_case("0.002") + out + " : -n 1 " +
+                                          TEARFLOW_BINARY + " run " + write_case("0.0025") + out,
+                                      "mpirun -n 1");
+  EXPECT_EQ(r.code, 2) << r.output;
+  const std::regex message("error: .*the 2 MPI ranks hold different meshes");
+  EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), message),
+                          std::sregex_iterator()),
+            1)
+      << r.output;
+  EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
+  EXPECT_THAT(r.output, testing::Not(HasSubstr("Segmentation")));
+  fs::remove_all(dir);
+}
+
 namespace {
 
 nlohmann::json read_json(const fs::path& file) {

@@ -5,6 +5,7 @@
 
 #include <petscmat.h>
 
+#include "core/digest.hpp"
 #include "core/error.hpp"
 #include "fem/petsc.hpp"
 
@@ -44,6 +45,41 @@ NodeGraph node_graph(const mesh::Mesh& mesh) {
 }
 
 namespace {
+
+/// FNV-1a of everything a run uses of the mesh: nodes, tets, regions and faces.
+std::uint64_t mesh_digest(const mesh::Mesh& m) {
+  auto bytes = [](const auto& v, std::uint64_t h) {
+    return fnv1a(v.data(), v.size() * sizeof(v[0]), h);
+  };
+  std::uint64_t h = fnv1a(m.points.data(), m.points.size() * sizeof(Vec3));
+  h = bytes(m.tets, h);
+  h = bytes(m.tet_region, h);
+  for (const std::string& r : m.regions)
+    h = bytes(r, h);
+  for (const mesh::Face& f : m.faces)
+    h = bytes(f.triangles, bytes(f.name, h));
+  return h;
+}
+
+/// Every rank builds or reads the whole mesh itself (see the header), and the partition and
+/// the assembly take for granted that the copies are one mesh. They are not when a generator
+/// is not deterministic (Gmsh's HXT mesher, pipe_generator.cpp) or a mesh file is replaced
+/// while the ranks read it; the run would then assemble parts of two meshes without a word.
+void check_ranks_hold_one_mesh(const mesh::Mesh& m, MPI_Comm comm) {
+  if (mpi_size(comm) == 1)
+    return;
+  const std::uint64_t mine = mesh_digest(m);
+  std::uint64_t low = 0, high = 0;
+  MPI_Allreduce(&mine, &low, 1, MPI_UINT64_T, MPI_MIN, comm);
+  MPI_Allreduce(&mine, &high, 1, MPI_UINT64_T, MPI_MAX, comm);
+  if (low != high)
+    collective_input_error(
+        "{}: the {} MPI ranks hold different meshes (digests {:016x} to {:016x}). Each rank "
+        "reads or builds the mesh itself, and all must get the same one: was the mesh file "
+        "written while the run started, or the ranks given different cases? Start it again "
+        "once the file is complete.",
+        m.source, mpi_size(comm), low, high);
+}
 
 /// Rank of every node, from PETSc's graph partitioner (PT-Scotch in Debian's build, chosen
 /// with -mat_partitioning_type). Each rank hands PETSc one contiguous block of graph rows.
@@ -139,6 +175,7 @@ std::vector<Index> reverse_cuthill_mckee(const NodeGraph& g) {
 } // namespace
 
 DistributedMesh::DistributedMesh(const mesh::Mesh& mesh, MPI_Comm comm) : comm_(comm) {
+  check_ranks_hold_one_mesh(mesh, comm);
   const int rank = mpi_rank(comm), size = mpi_size(comm);
   const Index n = mesh.num_nodes();
   n_global_ = n;
