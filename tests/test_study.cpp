@@ -221,6 +221,22 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
               calibration["version"]);
   }
 
+  // A variant's stage run under --only while the study-wide stages are recorded (EN's
+  // pictures stage forgotten, as if interrupted there): they use its output, so they are
+  // forgotten and, OR being done, run again in the same call; OR's stages do not.
+  {
+    json record = read_json(out / "study.json");
+    ASSERT_EQ(record["stages"].erase("EN/pictures"), 1u) << record.dump(2);
+    std::ofstream(out / "study.json") << record.dump(2);
+    r = testing::run_tearflow("study --only EN " + (a / "study.yaml").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    for (const char* stage :
+         {": EN pictures (", ": rom_calibrate (", ": rom_sweep (", ": report (", "' done in "})
+      EXPECT_NE(r.output.find(stage), std::string::npos) << stage << "\n" << r.output;
+    EXPECT_EQ(r.output.find(": OR "), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("wait for"), std::string::npos) << r.output;
+  }
+
   // A second study from the same recipe, killed during OR's simulation once a checkpoint
   // exists (every 10 steps), then run again: it must continue (not redo geometry or tuning)
   // and end where the uninterrupted study ended.
