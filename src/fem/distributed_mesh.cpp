@@ -5,7 +5,6 @@
 
 #include <petscmat.h>
 
-#include "core/digest.hpp"
 #include "core/error.hpp"
 #include "fem/petsc.hpp"
 
@@ -46,39 +45,26 @@ NodeGraph node_graph(const mesh::Mesh& mesh) {
 
 namespace {
 
-/// FNV-1a of everything a run uses of the mesh: nodes, tets, regions and faces.
-std::uint64_t mesh_digest(const mesh::Mesh& m) {
-  auto bytes = [](const auto& v, std::uint64_t h) {
-    return fnv1a(v.data(), v.size() * sizeof(v[0]), h);
-  };
-  std::uint64_t h = fnv1a(m.points.data(), m.points.size() * sizeof(Vec3));
-  h = bytes(m.tets, h);
-  h = bytes(m.tet_region, h);
-  for (const std::string& r : m.regions)
-    h = bytes(r, h);
-  for (const mesh::Face& f : m.faces)
-    h = bytes(f.triangles, bytes(f.name, h));
-  return h;
-}
-
-/// Every rank builds or reads the whole mesh itself (see the header), and the partition and
-/// the assembly take for granted that the copies are one mesh. They are not when a generator
-/// is not deterministic (Gmsh's HXT mesher, pipe_generator.cpp) or a mesh file is replaced
-/// while the ranks read it; the run would then assemble parts of two meshes without a word.
+/// Every rank reads or builds the whole mesh itself (see the header), and the partition and
+/// the assembly take for granted that the copies are one mesh. They are not when the ranks
+/// were given different cases, a mesh file changed while they read it, or a mesher is not
+/// deterministic (as Gmsh's HXT is; pipe_generator.cpp and tbad_builder.cpp avoid it for that
+/// reason): the partition then crashed, or the run would assemble parts of two meshes.
 void check_ranks_hold_one_mesh(const mesh::Mesh& m, MPI_Comm comm) {
   if (mpi_size(comm) == 1)
     return;
-  const std::uint64_t mine = mesh_digest(m);
-  std::uint64_t low = 0, high = 0;
-  MPI_Allreduce(&mine, &low, 1, MPI_UINT64_T, MPI_MIN, comm);
-  MPI_Allreduce(&mine, &high, 1, MPI_UINT64_T, MPI_MAX, comm);
-  if (low != high)
+  const std::uint64_t mine = mesh::digest(m);
+  // One reduction: the least of (d, ~d) over the ranks is (lowest, ~highest).
+  const std::uint64_t both[2] = {mine, ~mine};
+  std::uint64_t least[2] = {0, 0};
+  MPI_Allreduce(both, least, 2, MPI_UINT64_T, MPI_MIN, comm);
+  if (least[0] != ~least[1])
     collective_input_error(
-        "{}: the {} MPI ranks hold different meshes (digests {:016x} to {:016x}). Each rank "
-        "reads or builds the mesh itself, and all must get the same one: was the mesh file "
-        "written while the run started, or the ranks given different cases? Start it again "
-        "once the file is complete.",
-        m.source, mpi_size(comm), low, high);
+        "the {} MPI ranks hold different meshes (rank 0's: {}; digests differ, e.g. {:016x} and "
+        "{:016x}). Each rank reads or builds the mesh itself, and all must get the same one: "
+        "were the ranks given different cases, or was the mesh file changed while they read "
+        "it? Give every rank the same case and a complete mesh file.",
+        mpi_size(comm), m.source, least[0], ~least[1]);
 }
 
 /// Rank of every node, from PETSc's graph partitioner (PT-Scotch in Debian's build, chosen

@@ -25,6 +25,7 @@ struct LocalFace {
 
 class DistributedMesh {
 public:
+  /// Collective. Throws a collective InputError when the ranks' copies of `mesh` differ.
   DistributedMesh(const mesh::Mesh& mesh, MPI_Comm comm);
 
   MPI_Comm comm() const { return comm_; }

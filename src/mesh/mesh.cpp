@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "core/digest.hpp"
 #include "core/error.hpp"
 
 namespace tearflow::mesh {
@@ -252,6 +253,32 @@ void drop_unused_nodes(Mesh& mesh) {
     for (Tri& t : f.triangles)
       for (Index& n : t)
         n = renumber[n];
+}
+
+namespace {
+
+/// Continues digest `h` with a vector's length and bytes (the length keeps the pieces of a
+/// chain apart: regions "ab", "c" differ from "a", "bc").
+template <typename Vector> std::uint64_t continue_digest(const Vector& v, std::uint64_t h) {
+  const std::uint64_t n = v.size();
+  return fnv1a(v.data(), v.size() * sizeof(v[0]), fnv1a(&n, sizeof n, h));
+}
+
+} // namespace
+
+std::uint64_t solution_digest(const Mesh& m) {
+  std::uint64_t h = fnv1a(m.points.data(), m.points.size() * sizeof(Vec3));
+  h = fnv1a(m.tets.data(), m.tets.size() * sizeof(Tet), h);
+  return fnv1a(m.tet_region.data(), m.tet_region.size() * sizeof(int), h);
+}
+
+std::uint64_t digest(const Mesh& m) {
+  std::uint64_t h = solution_digest(m);
+  for (const std::string& r : m.regions)
+    h = continue_digest(r, h);
+  for (const Face& f : m.faces)
+    h = continue_digest(f.triangles, continue_digest(f.name, h));
+  return h;
 }
 
 } // namespace tearflow::mesh

@@ -2,6 +2,7 @@
 // A tetrahedral mesh with named volume regions and named boundary faces, in SI units.
 // Readers (Gmsh, SimVascular mesh-complete) and the pipe generator produce it; everything
 // downstream (partition, physics, output) reads it and never changes it.
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,6 +31,14 @@ struct Mesh {
   /// The face called `name`; throws InputError listing the known names otherwise.
   const Face& face(std::string_view name) const;
 };
+
+/// FNV-1a of the nodes, the tets and their regions: what a run computes on (its fingerprint,
+/// run/run_fingerprint.cpp; checkpoints keep it, so it must not change).
+std::uint64_t solution_digest(const Mesh& mesh);
+
+/// solution_digest continued with the region and face names and the faces' triangles:
+/// everything a run takes from the mesh (the ranks compare it, fem/distributed_mesh.cpp).
+std::uint64_t digest(const Mesh& mesh);
 
 /// Signed volume of tet (a, b, c, d): det[b-a, c-a, d-a] / 6.
 double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

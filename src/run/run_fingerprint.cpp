@@ -8,7 +8,6 @@
 
 #include <fmt/format.h>
 
-#include "core/digest.hpp"
 #include "core/error.hpp"
 
 namespace tearflow::run {
@@ -28,11 +27,8 @@ std::string condition(const bc::BoundaryCondition& b) {
 
 io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
   io::Fingerprint f;
-  std::uint64_t h = fnv1a(m.points.data(), m.points.size() * sizeof(Vec3));
-  h = fnv1a(m.tets.data(), m.tets.size() * sizeof(m.tets[0]), h);
-  h = fnv1a(m.tet_region.data(), m.tet_region.size() * sizeof(int), h);
   f.emplace_back("mesh", fmt::format("{} nodes, {} tets, {} regions, digest {:016x}", m.num_nodes(),
-                                     m.tets.size(), m.regions.size(), h));
+                                     m.tets.size(), m.regions.size(), mesh::solution_digest(m)));
   f.emplace_back("time step", fmt::format("{} s", c.time.step));
   f.emplace_back("time scheme", fmt::format("spectral radius {}", c.time.spectral_radius));
   if (!c.boundary_conditions.empty())
