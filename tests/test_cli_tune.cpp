@@ -36,6 +36,13 @@ int count(const std::string& text, const std::string& what) {
   return n;
 }
 
+/// How often the regular expression `pattern` matches in `text` (a message printed once, not
+/// once per rank).
+long count_matches(const std::string& text, const std::string& pattern) {
+  const std::regex re(pattern);
+  return std::distance(std::sregex_iterator(text.begin(), text.end(), re), std::sregex_iterator());
+}
+
 } // namespace
 
 TEST(CliTune, WritesTheTunedCaseAndTheTable) {
@@ -124,10 +131,7 @@ TEST(CliVerify, CollectiveInputErrorIsReportedOnce) {
   const Result r = tearflow::testing::run_tearflow("verify pulse --coarsen 2", "mpirun -n 2");
   EXPECT_NE(r.code, 0);
   EXPECT_THAT(r.output, HasSubstr("--coarsen 2 gives elements of 2.00 mm"));
-  const std::regex message("error: verify pulse");
-  const auto n = std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), message),
-                               std::sregex_iterator());
-  EXPECT_EQ(n, 1) << r.output;
+  EXPECT_EQ(count_matches(r.output, "error: verify pulse"), 1) << r.output;
 }
 
 TEST(CliRun, BadCaseOnTwoRanksIsReportedOnceWithoutAbort) {
@@ -137,21 +141,13 @@ TEST(CliRun, BadCaseOnTwoRanksIsReportedOnceWithoutAbort) {
       "run " + (tearflow::testing::test_data / "cases/bad_density_type.yaml").string(),
       "mpirun -n 2");
   EXPECT_EQ(r.code, 2) << r.output;
-  const std::regex message("error: .*fluid.density");
-  EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), message),
-                          std::sregex_iterator()),
-            1)
-      << r.output;
+  EXPECT_EQ(count_matches(r.output, "error: .*fluid.density"), 1) << r.output;
   EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
 
   // An unknown option: the command line, the same on every rank, is refused once too.
   const Result option = tearflow::testing::run_tearflow("run --no-such-option", "mpirun -n 2");
   EXPECT_NE(option.code, 0) << option.output;
-  const std::regex unknown("not expected: --no-such-option");
-  EXPECT_EQ(std::distance(std::sregex_iterator(option.output.begin(), option.output.end(), unknown),
-                          std::sregex_iterator()),
-            1)
-      << option.output;
+  EXPECT_EQ(count_matches(option.output, "not expected: --no-such-option"), 1) << option.output;
   EXPECT_THAT(option.output, testing::Not(HasSubstr("MPI_ABORT")));
 }
 
@@ -161,11 +157,7 @@ TEST(CliRun, AOneProcessCommandOnTwoRanksSaysSoAndFailsOnceWithoutAbort) {
   const Result r = tearflow::testing::run_tearflow("analyze /nonexistent-run", "mpirun -n 2");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("`tearflow analyze` runs on one process; the other 1 rank(s)"));
-  const std::regex message("error: '/nonexistent-run'");
-  EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), message),
-                          std::sregex_iterator()),
-            1)
-      << r.output;
+  EXPECT_EQ(count_matches(r.output, "error: '/nonexistent-run'"), 1) << r.output;
   EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
 }
 
@@ -197,10 +189,7 @@ TEST(CliRun, RanksHoldingDifferentMeshesStopWithOneClearError) {
                                           TEARFLOW_BINARY + " run " + write_case("0.0025") + out,
                                       "mpirun -n 1");
   EXPECT_EQ(r.code, 2) << r.output;
-  const std::regex message("error: .*the 2 MPI ranks hold different meshes");
-  EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), message),
-                          std::sregex_iterator()),
-            1)
+  EXPECT_EQ(count_matches(r.output, "error: .*the 2 MPI ranks hold different meshes"), 1)
       << r.output;
   EXPECT_THAT(r.output, testing::Not(HasSubstr("MPI_ABORT")));
   EXPECT_THAT(r.output, testing::Not(HasSubstr("Segmentation")));
