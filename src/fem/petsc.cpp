@@ -46,6 +46,17 @@ void set_default_options(const OptionList& options) {
       TF_PETSC(PetscOptionsSetValue(nullptr, name.c_str(), value.c_str()));
 }
 
+void use_gmres(KSP ksp, PetscInt restart) {
+  TF_PETSC(KSPSetType(ksp, KSPGMRES));
+  TF_PETSC(KSPGMRESSetRestart(ksp, restart));
+  // Over 200 directions, classical Gram-Schmidt without refinement (PETSc's default) loses
+  // the basis' orthogonality: on EN with nine elements across the TL (1.04 M tets, late
+  // systole) GMRES broke down at its restart (DIVERGED_BREAKDOWN at iteration 200) even with
+  // a fresh preconditioner, and took 337-726 iterations per step where a second pass when
+  // needed takes 179-211, in half the time (docs/performance.md).
+  TF_PETSC(KSPGMRESSetCGSRefinementType(ksp, KSP_GMRES_CGS_REFINE_IFNEEDED));
+}
+
 OptionList boomeramg_3d_options(const std::string& prefix) {
   return {{prefix + "pc_type", "hypre"},
           {prefix + "pc_hypre_boomeramg_coarsen_type", "HMIS"},

@@ -118,6 +118,10 @@ void set_default_options(const OptionList& options);
 /// (pipe-fsi: 16.4 against 35 s/step, docs/performance.md).
 OptionList boomeramg_3d_options(const std::string& prefix);
 
+/// GMRES restarted every `restart` directions, with a second Gram-Schmidt pass where the
+/// basis loses orthogonality (PETSc's default has none; options still override both).
+void use_gmres(KSP ksp, PetscInt restart);
+
 int mpi_rank(MPI_Comm comm = PETSC_COMM_WORLD);
 int mpi_size(MPI_Comm comm = PETSC_COMM_WORLD);
 

@@ -60,14 +60,7 @@ NewtonStepper<Problem>::NewtonStepper(Problem& problem, const physics::NewtonSpe
   TF_PETSC(SNESSetForceIteration(snes_, PETSC_TRUE));
   KSP ksp;
   TF_PETSC(SNESGetKSP(snes_, &ksp));
-  TF_PETSC(KSPSetType(ksp, KSPGMRES));
-  TF_PETSC(KSPGMRESSetRestart(ksp, 200));
-  // Over 200 directions, classical Gram-Schmidt without refinement (PETSc's default) loses
-  // the basis' orthogonality: on EN with nine elements across the TL (1.04 M tets, late
-  // systole) GMRES broke down at its restart (DIVERGED_BREAKDOWN at iteration 200) even with
-  // a fresh preconditioner, and took 337-726 iterations per step where a second pass when
-  // needed takes 179-211, in half the time (docs/performance.md).
-  TF_PETSC(KSPGMRESSetCGSRefinementType(ksp, KSP_GMRES_CGS_REFINE_IFNEEDED));
+  fem::use_gmres(ksp, 200);
   TF_PETSC(KSPSetTolerances(ksp, 1e-4, 1e-14, PETSC_DEFAULT, 1000));
   // Default preconditioner: Schur-complement field split of velocity (dofs 0-2) and
   // pressure (dof 3). The velocity block is dominated by the mass matrix / dt at cardiac

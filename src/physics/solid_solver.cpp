@@ -58,11 +58,7 @@ SolidSolver::SolidSolver(SolidProblem& problem, const physics::NewtonSpec& newto
   TF_PETSC(SNESSetForceIteration(snes_, PETSC_TRUE));
   KSP ksp;
   TF_PETSC(SNESGetKSP(snes_, &ksp));
-  TF_PETSC(KSPSetType(ksp, KSPGMRES));
-  TF_PETSC(KSPGMRESSetRestart(ksp, 200));
-  // As the flow's (fluid_solver.cpp): 200 directions need a second Gram-Schmidt pass when
-  // orthogonality is lost.
-  TF_PETSC(KSPGMRESSetCGSRefinementType(ksp, KSP_GMRES_CGS_REFINE_IFNEEDED));
+  fem::use_gmres(ksp, 200);
   TF_PETSC(KSPSetTolerances(ksp, 1e-6, 1e-50, PETSC_DEFAULT, 1000));
   fem::set_default_options(default_solid_options());
   TF_PETSC(SNESSetFromOptions(snes_));
