@@ -355,8 +355,8 @@ TEST(Study, CompliantStudyTunesInItsRunAndResumes) {
   // against DAo_prox and DAo_dist with the volume the moving wall stores between the planes
   // (stations 1-2 also cut the ascending aorta: each cut's own downstream part). What is left
   // is the Newton tolerance (1e-3 of each step's first residual, one norm over momentum and
-  // continuity rows): measured 0.23-0.27 % of the peak flow on 2026-11-29 (0.03-0.04 % when
-  // this test was written; 0.0008 % at 1e-5). The tolerance, 0.5 %, is twice that and a
+  // continuity rows): measured 0.23-0.27 % of the peak flow on 2026-11-29 (when this test was
+  // written: 0.03-0.04 %, and 0.0008 % at 1e-5). The tolerance, 0.5 %, is twice that and a
   // quarter of the 2 % (docs/performance.md, "A node-order-free metric"). The flap
   // moves at every station.
   const json metrics = read_json(out / "OR" / "run" / "analysis" / "metrics.json");
