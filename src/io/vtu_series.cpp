@@ -93,7 +93,16 @@ void VtuSeries::write(int step, double time, const std::vector<PointField>& fiel
   }
   std::filesystem::rename(tmp, file);
   frames_.emplace_back(time, name);
-  write_pvd();
+  try {
+    write_pvd();
+  } catch (const InputError& e) {
+    // The list could not take the frame (a disk that filled between the two): the frame goes
+    // too, so that the list still names every frame on disk and nothing else.
+    frames_.pop_back();
+    std::error_code ignored;
+    std::filesystem::remove(file, ignored);
+    input_error("cannot write frame '{}' into the series' list: {}", file.string(), e.what());
+  }
 }
 
 void VtuSeries::write_pvd() const {
