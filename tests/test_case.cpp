@@ -51,7 +51,10 @@ TEST(LoadCase, FullCaseInSiUnits) {
 
   EXPECT_DOUBLE_EQ(c.fluid.density, 1050.0);
   EXPECT_DOUBLE_EQ(c.fluid.viscosity, 0.0035);
-  EXPECT_DOUBLE_EQ(c.fluid.stabilization_time_scale, 0.005);
+  EXPECT_DOUBLE_EQ(c.fluid.stabilization.time_scale, 0.005);
+  EXPECT_FALSE(c.fluid.stabilization.viscous_correction);
+  EXPECT_DOUBLE_EQ(c.fluid.stabilization.grad_div, 0.5);
+  EXPECT_EQ(c.fluid.stabilization.metric, physics::StabilizationSpec::Metric::reference_tet);
 
   EXPECT_DOUBLE_EQ(c.time.step, 0.005);
   EXPECT_EQ(c.time.steps, 200); // end 1.0 s / step 5 ms
@@ -93,6 +96,7 @@ TEST(LoadCase, FullCaseInSiUnits) {
   EXPECT_EQ(c.newton.max_iterations, 6);
   EXPECT_DOUBLE_EQ(c.newton.rtol, 1e-5);
   EXPECT_DOUBLE_EQ(c.newton.atol, 1e-9);
+  EXPECT_DOUBLE_EQ(c.newton.continuity, 2e-4);
 
   EXPECT_EQ(c.petsc_options, "-fluid_ksp_type gmres -fluid_pc_type bjacobi -fluid_ksp_monitor");
 
@@ -114,7 +118,12 @@ TEST(LoadCase, DefaultsFillTheRest) {
   EXPECT_DOUBLE_EQ(c.mesh.length_scale, 1.0);
   EXPECT_DOUBLE_EQ(c.fluid.density, defaults.fluid.density);
   EXPECT_DOUBLE_EQ(c.fluid.viscosity, defaults.fluid.viscosity);
-  EXPECT_EQ(c.fluid.stabilization_time_scale, 0.0); // the time step
+  EXPECT_EQ(c.fluid.stabilization.time_scale, -1.0); // automatic
+  EXPECT_EQ(c.fluid.stabilization.effective_time_scale(0.01), 0.005);
+  EXPECT_EQ(c.fluid.stabilization.viscous_correction, true);
+  EXPECT_EQ(c.fluid.stabilization.grad_div, 0.125);
+  EXPECT_EQ(c.fluid.stabilization.metric, physics::StabilizationSpec::Metric::symmetric);
+  EXPECT_EQ(c.newton.continuity, 1e-3);
   EXPECT_DOUBLE_EQ(c.time.step, 0.01);
   EXPECT_EQ(c.time.steps, defaults.time.steps);
   EXPECT_DOUBLE_EQ(c.time.spectral_radius, defaults.time.spectral_radius);
@@ -251,7 +260,8 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
   BadCase{"bad_malformed.yaml", 4, "", "malformed YAML"},
   BadCase{"bad_unknown_key.yaml", 8, "fluid.viscocity",
           "unknown key 'viscocity' (did you mean 'viscosity'?); allowed keys in fluid: density, "
-          "viscosity, stabilization_time_scale"},
+          "viscosity, stabilization_time_scale, viscous_correction, grad_div_scale, "
+          "stabilization_metric"},
   BadCase{"bad_unknown_top_key.yaml", 10, "outputs", "did you mean 'output'?"},
   BadCase{"bad_duplicate_key.yaml", 9, "fluid.density", "given twice (first on line 7)"},
   BadCase{"bad_density_type.yaml", 7, "fluid.density", "expected a number > 0, got 'heavy'"},

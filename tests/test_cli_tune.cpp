@@ -206,9 +206,11 @@ nlohmann::json read_json(const fs::path& file) {
 } // namespace
 
 // `tearflow run --targets` (tuning/corrected_run.hpp): the small pipe's first cycle misses the
-// 2 % targets (by 4.6 %, small_pipe_in_run_targets.yaml), the corrected second one meets
-// them, the third, with the same outlet, is periodic within the case's 1 %; an interrupted
-// run continues with the outlet that ran at its checkpoint and ends as the uninterrupted one.
+// 1 % targets (by 1.15 %, small_pipe_in_run_targets.yaml) and is corrected; the second meets
+// them (0.79 %) but is corrected again, being above half the tolerance while the outlet's
+// capacitor still settles; the third gets 0.04 % and is periodic within the case's 1 %; an
+// interrupted run continues with the outlet that ran at its checkpoint and ends as the
+// uninterrupted one.
 TEST(CliTune, RunCorrectsItsOutletsAtCycleEndsUntilAPeriodicCycleMeetsTheTargets) {
   const fs::path case_file = data / "small_pipe_in_run.yaml",
                  targets = data / "small_pipe_in_run_targets.yaml";
@@ -225,11 +227,12 @@ TEST(CliTune, RunCorrectsItsOutletsAtCycleEndsUntilAPeriodicCycleMeetsTheTargets
   const nlohmann::json& steps = j["steps"];
   ASSERT_EQ(steps.size(), 4u) << j.dump(2); // 0D, then cycles 1-3
   EXPECT_EQ(steps[0]["stage"], "0D");
-  EXPECT_GT(double(steps[1]["pressure_error_percent"]), 2.0); // corrected after cycle 1 ...
+  EXPECT_GT(double(steps[1]["pressure_error_percent"]), 1.0); // corrected after cycle 1 ...
   EXPECT_NE(double(steps[1]["R_T_Pa_s_per_m3"]), double(steps[2]["R_T_Pa_s_per_m3"]));
-  EXPECT_LE(double(steps[2]["pressure_error_percent"]), 2.0); // ... met by cycle 2 ...
-  EXPECT_EQ(double(steps[2]["R_T_Pa_s_per_m3"]), double(steps[3]["R_T_Pa_s_per_m3"]));
-  EXPECT_LE(double(steps[3]["pressure_error_percent"]), 2.0); // ... and cycle 3, periodic
+  EXPECT_LE(double(steps[2]["pressure_error_percent"]), 1.0); // ... met by cycle 2, but
+  EXPECT_GT(double(steps[2]["pressure_error_percent"]), 0.5); // above half: corrected ...
+  EXPECT_NE(double(steps[2]["R_T_Pa_s_per_m3"]), double(steps[3]["R_T_Pa_s_per_m3"]));
+  EXPECT_LE(double(steps[3]["pressure_error_percent"]), 0.5); // ... and cycle 3, periodic
   const nlohmann::json cycles = read_json(whole / "cycles.json");
   ASSERT_EQ(cycles["cycles"].size(), 3u);
   EXPECT_LT(double(cycles["cycles"][2]["change_from_previous"]), 0.01);

@@ -66,8 +66,10 @@ TEST(FluxConservation, ConservativeFlowBalancesWherePlaneIntegralsDoNot) {
               "of the flow (tolerance %.3g %%)\n",
               100 * worst / q_in, 100 * worst_interpolated / q_in, 100 * tolerance / q_in);
   EXPECT_LE(worst, tolerance);
-  // What the test guards against: on this mesh the plane integrals do not balance.
-  EXPECT_GT(worst_interpolated, 0.05 * q_in);
+  // What the test guards against: on this mesh the plane integrals do not balance (4.7 % of
+  // the flow with the stabilization of navier_stokes_kernel.hpp, 2026-12-07; more before the
+  // grad-div scale fell to svSolver's), twenty times the tolerance above.
+  EXPECT_GT(worst_interpolated, 0.02 * q_in);
 
   // Through the program: the method is recorded and the conservation keys are both there.
   const testing::Result analyze = testing::run_tearflow(

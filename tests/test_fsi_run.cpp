@@ -238,7 +238,8 @@ TEST(FsiRun, StalledStepIsRetriedWithTheExactOperator) {
   const fs::path reference = fresh_dir("fsi-large-step-40"), retried = fresh_dir("fsi-large-step"),
                  two = fresh_dir("fsi-large-step-2");
   // The default Jacobian holds the interface's shape derivatives and converges every step
-  // in 6 iterations; the quasi-Newton one without them (svFSI's) needs 7, 8, 9.
+  // in 5-6 iterations; the quasi-Newton one without them (svFSI's) needs 8, 9, 10 (each
+  // field to its tolerance, newton_spec.hpp), more than the case's 7 from the first step.
   const auto r_default = run_tearflow("run " + case_file.string() + " -o " +
                                       fresh_dir("fsi-large-step-default").string());
   ASSERT_EQ(r_default.code, 0) << r_default.output;
@@ -252,10 +253,10 @@ TEST(FsiRun, StalledStepIsRetriedWithTheExactOperator) {
   EXPECT_THAT(r0.output, Not(HasSubstr("retrying")));
   const auto r1 = run_tearflow("run " + case_file.string() + " -o " + retried.string() + quasi);
   ASSERT_EQ(r1.code, 0) << r1.output;
-  EXPECT_THAT(r1.output, HasSubstr("step t = 0.004 s: Newton with the approximate Jacobian "
+  EXPECT_THAT(r1.output, HasSubstr("step t = 0.002 s: Newton with the approximate Jacobian "
                                    "failed (DIVERGED_MAX_IT)"));
   // Issue 28: the step's line said "Newton 13" of at most 7; it says the 7 apart.
-  EXPECT_THAT(r1.output, testing::ContainsRegex("step +2/3 .* Newton [1-7] \\(\\+7 retried\\)"));
+  EXPECT_THAT(r1.output, testing::ContainsRegex("step +1/3 .* Newton [1-7] \\(\\+7 retried\\)"));
   const auto r2 =
       run_tearflow("run " + case_file.string() + " -q -o " + two.string() + quasi, "mpirun -n 2");
   ASSERT_EQ(r2.code, 0) << r2.output;

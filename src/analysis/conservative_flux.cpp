@@ -57,6 +57,43 @@ ContinuityState sized(vtkIdType n) {
   return s;
 }
 
+/// sigma_h as the solver reconstructs it (physics/navier_stokes_kernel.hpp): the lumped L2
+/// projection of 2 mu eps(v) over the grid's tetrahedra on the mesh s.x_lagged, v the
+/// velocity the solver took (`predictor`). Nothing unless the run has the correction.
+void reconstruct_viscous_flux(vtkUnstructuredGrid* grid, const std::vector<Vec3>& predictor,
+                              const ContinuityForm& form, ContinuityState& s) {
+  if (!form.fluid.stabilization.viscous_correction)
+    return;
+  const std::size_t n = s.x.size();
+  std::vector<physics::SymTensor> sum(n, physics::SymTensor{});
+  std::vector<double> volume(n, 0.0);
+  for (vtkIdType cell = 0; cell < grid->GetNumberOfCells(); ++cell) {
+    vtkIdType count = 0;
+    const vtkIdType* ids = nullptr;
+    grid->GetCellPoints(cell, count, ids);
+    if (count != 4)
+      continue;
+    std::array<Vec3, 4> x, v;
+    for (int a = 0; a < 4; ++a) {
+      x[a] = s.x_lagged[static_cast<std::size_t>(ids[a])];
+      v[a] = predictor[static_cast<std::size_t>(ids[a])];
+    }
+    const fem::TetGeometry geo = fem::tet_geometry(x);
+    const physics::SymTensor sigma = physics::viscous_flux(geo, v, form.fluid.viscosity);
+    const double share = 0.25 * std::abs(geo.volume);
+    for (int a = 0; a < 4; ++a) {
+      const auto k = static_cast<std::size_t>(ids[a]);
+      for (int c = 0; c < 6; ++c)
+        sum[k][c] += share * sigma[c];
+      volume[k] += share;
+    }
+  }
+  for (std::size_t k = 0; k < n; ++k)
+    for (int c = 0; c < 6; ++c)
+      sum[k][c] = volume[k] > 0 ? sum[k][c] / volume[k] : 0.0;
+  s.viscous_flux = std::move(sum);
+}
+
 } // namespace
 
 FrameDifferences frame_differences(vtkUnstructuredGrid* before, double t_before,
@@ -108,6 +145,17 @@ WallTriangles wall_triangles(vtkUnstructuredGrid* grid) {
   return out;
 }
 
+namespace {
+
+/// The pressure unknown as the step posed it: `stage_pressure` where the frame has it (the
+/// `pressure` of such a frame is at the frame's time, run/flow_model.hpp), else `pressure`.
+vtkDataArray* stage_pressure(vtkUnstructuredGrid* frame) {
+  vtkDataArray* stage = frame->GetPointData()->GetArray(kStagePressure);
+  return stage != nullptr ? stage : frame->GetPointData()->GetArray("pressure");
+}
+
+} // namespace
+
 bool has_acceleration(vtkUnstructuredGrid* frame) {
   vtkDataArray* a = frame->GetPointData()->GetArray(kAcceleration);
   return a != nullptr && a->GetNumberOfComponents() == 3;
@@ -125,7 +173,7 @@ ContinuityState step_stage(vtkUnstructuredGrid* before, vtkUnstructuredGrid* aft
   vtkDataArray* u1 = after->GetPointData()->GetArray("velocity");
   vtkDataArray* a0 = before->GetPointData()->GetArray(kAcceleration);
   vtkDataArray* a1 = after->GetPointData()->GetArray(kAcceleration);
-  vtkDataArray* p1 = after->GetPointData()->GetArray("pressure");
+  vtkDataArray* p1 = stage_pressure(after);
   ContinuityState s = sized(n);
   s.time_step = dt;
   s.exact = true;
@@ -143,6 +191,10 @@ ContinuityState step_stage(vtkUnstructuredGrid* before, vtkUnstructuredGrid* aft
     s.udot[k] = tuple3(a0, i) + am * (tuple3(a1, i) - tuple3(a0, i));
     s.p[k] = p1->GetTuple1(i);
   }
+  std::vector<Vec3> predictor(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+    predictor[static_cast<std::size_t>(i)] = tuple3(u0, i) + af * dt * tuple3(a0, i);
+  reconstruct_viscous_flux(after, predictor, form, s);
   s.wall = std::move(wall);
   return s;
 }
@@ -151,7 +203,7 @@ ContinuityState frame_state(vtkUnstructuredGrid* frame, const FrameRates& rates,
                             const ContinuityForm& form, std::shared_ptr<const WallTriangles> wall) {
   const vtkIdType n = frame->GetNumberOfPoints();
   vtkDataArray* velocity = frame->GetPointData()->GetArray("velocity");
-  vtkDataArray* pressure = frame->GetPointData()->GetArray("pressure");
+  vtkDataArray* pressure = stage_pressure(frame);
   vtkDataArray* udot =
       has_acceleration(frame) ? frame->GetPointData()->GetArray(kAcceleration) : rates.acceleration;
   ContinuityState s = sized(n);
@@ -166,6 +218,11 @@ ContinuityState frame_state(vtkUnstructuredGrid* frame, const FrameRates& rates,
     s.lagged[k] = s.u[k] - form.time_step * s.udot[k] - s.w[k]; // ~ u_n - w
     s.p[k] = pressure->GetTuple1(i);
   }
+  // u_n + alpha_f dt udot ~ u - (1 - alpha_f) dt udot
+  std::vector<Vec3> predictor(static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < predictor.size(); ++k)
+    predictor[k] = s.u[k] - (1.0 - form.scheme.alpha_f) * form.time_step * s.udot[k];
+  reconstruct_viscous_flux(frame, predictor, form, s);
   s.wall = std::move(wall);
   return s;
 }
@@ -247,6 +304,12 @@ PlaneFlux conservative_fluxes(vtkUnstructuredGrid* grid, const ContinuityState& 
       s.p[a] = state.p[k];
       lagged = lagged + 0.25 * state.lagged[k];
     }
+    if (!state.viscous_flux.empty())
+      s.viscous =
+          physics::flux_divergence(geo, {state.viscous_flux[static_cast<std::size_t>(ids[0])],
+                                         state.viscous_flux[static_cast<std::size_t>(ids[1])],
+                                         state.viscous_flux[static_cast<std::size_t>(ids[2])],
+                                         state.viscous_flux[static_cast<std::size_t>(ids[3])]});
     const physics::FluidElementFields f = physics::element_fields(geo, s, form.fluid);
     const physics::Stabilization stab =
         physics::stabilization(fem::tet_geometry(x_lagged), lagged, form.fluid, state.time_step);

@@ -28,8 +28,9 @@
 // far-side nodes connected to that cut's layer only.
 //
 // The solver poses the step from t_n to t_{n+1} at the generalized-alpha stage: u and the
-// mesh at t_n + alpha_f dt, du/dt at t_n + alpha_m dt, p at t_{n+1}, tau_M from u_n on the
-// mesh at t_n (physics/fluid_problem.cpp, fsi_problem.cpp). Two frames one step apart that
+// mesh at t_n + alpha_f dt, du/dt at t_n + alpha_m dt, p at t_{n+1}, tau_M from u_n and the
+// viscous flux sigma_h from u_n + alpha_f dt du/dt_n on the mesh at t_n
+// (physics/fluid_problem.cpp, fsi_problem.cpp). Two frames one step apart that
 // hold du/dt (`acceleration`) give that stage exactly (step_stage): its F balances to the
 // Newton tolerance, at the stage's time. A frame without its step's start gives an
 // approximation (frame_state): the frame's fields at t_{n+1}, du/dt from the frame (else
@@ -55,6 +56,8 @@ namespace tearflow::analysis {
 /// Point fields of a frame the flux reads beside `velocity` and `pressure`.
 inline constexpr const char* kAcceleration = "acceleration"; ///< du/dt as the run held it
 inline constexpr const char* kOnWallArray = "on_wall";       ///< 1 at the moving wall's nodes
+/// The pressure unknown at the step's stage t_n + alpha_f dt (the frame's `pressure` is at t_{n+1})
+inline constexpr const char* kStagePressure = "stage_pressure";
 
 /// What the continuity equation needs beyond the frames' fields.
 struct ContinuityForm {
@@ -90,11 +93,14 @@ WallTriangles wall_triangles(vtkUnstructuredGrid* frame);
 
 /// The fields of the continuity equation at the nodes of a frame's fluid mesh (its order).
 struct ContinuityState {
-  std::vector<Vec3> x;                       ///< where the equation is posed [m]
-  std::vector<Vec3> x_lagged;                ///< where tau_M was computed [m]
-  std::vector<Vec3> u, udot, w;              ///< [m/s], [m/s^2], [m/s]
-  std::vector<Vec3> lagged;                  ///< tau_M's convective velocity [m/s]
-  std::vector<double> p;                     ///< [Pa]
+  std::vector<Vec3> x;          ///< where the equation is posed [m]
+  std::vector<Vec3> x_lagged;   ///< where tau_M was computed [m]
+  std::vector<Vec3> u, udot, w; ///< [m/s], [m/s^2], [m/s]
+  std::vector<Vec3> lagged;     ///< tau_M's convective velocity [m/s]
+  std::vector<double> p;        ///< [Pa]
+  /// sigma_h, the viscous flux the solver's r_M reconstructs, per node (empty: the run has no
+  /// viscous correction)
+  std::vector<physics::SymTensor> viscous_flux;
   double time_step = 0.0;                    ///< [s]
   std::shared_ptr<const WallTriangles> wall; ///< the run's (wall_triangles); null: none
   bool exact = false; ///< the solver's stage (step_stage), not an estimate (frame_state)

@@ -18,9 +18,7 @@ namespace {
 ContinuityForm form_of(const io::Case& c) {
   ContinuityForm f;
   f.time_step = c.time.step;
-  f.fluid.density = c.fluid.density;
-  f.fluid.viscosity = c.fluid.viscosity;
-  f.fluid.stabilization_time_scale = c.fluid.stabilization_time_scale;
+  f.fluid = c.fluid;
   f.scheme = physics::GeneralizedAlpha::from_spectral_radius(c.time.spectral_radius);
   return f;
 }

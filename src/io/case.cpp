@@ -96,14 +96,26 @@ MeshSpec read_mesh_spec(const YamlValue& v, const fs::path& case_dir) {
 // --- sections of plain numbers -----------------------------------------------------------
 
 FluidSpec read_fluid(const YamlValue& v) {
-  v.check_keys({"density", "viscosity", "stabilization_time_scale"});
+  v.check_keys({"density", "viscosity", "stabilization_time_scale", "viscous_correction",
+                "grad_div_scale", "stabilization_metric"});
   FluidSpec fluid;
   if (auto x = v.get("density"))
     fluid.density = x->positive();
   if (auto x = v.get("viscosity"))
     fluid.viscosity = x->positive();
-  if (auto x = v.get("stabilization_time_scale"))
-    fluid.stabilization_time_scale = x->positive();
+  physics::StabilizationSpec& stab = fluid.stabilization;
+  if (auto x = v.get("stabilization_time_scale")) { // a time, `step` or `automatic`
+    const std::string text = x->is_scalar() ? x->text() : "";
+    stab.time_scale = text == "step" ? 0.0 : text == "automatic" ? -1.0 : x->positive();
+  }
+  if (auto x = v.get("viscous_correction"))
+    stab.viscous_correction = x->choice({"true", "false"}) == "true";
+  if (auto x = v.get("grad_div_scale"))
+    stab.grad_div = x->non_negative();
+  if (auto x = v.get("stabilization_metric"))
+    stab.metric = x->choice({"symmetric", "reference_tet"}) == "symmetric"
+                      ? physics::StabilizationSpec::Metric::symmetric
+                      : physics::StabilizationSpec::Metric::reference_tet;
   return fluid;
 }
 
@@ -209,7 +221,7 @@ void resolve_period(Case& c, const YamlValue& time_node, const std::vector<Given
 }
 
 physics::NewtonSpec read_newton(const YamlValue& v) {
-  v.check_keys({"max_iterations", "rtol", "atol"});
+  v.check_keys({"max_iterations", "rtol", "atol", "continuity"});
   physics::NewtonSpec newton;
   if (auto x = v.get("max_iterations"))
     newton.max_iterations = x->integer(1);
@@ -217,6 +229,8 @@ physics::NewtonSpec read_newton(const YamlValue& v) {
     newton.rtol = x->positive();
   if (auto x = v.get("atol"))
     newton.atol = x->positive();
+  if (auto x = v.get("continuity"))
+    newton.continuity = x->positive();
   return newton;
 }
 

@@ -13,6 +13,7 @@
 #include "io/case_solid.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pipe_generator.hpp"
+#include "physics/navier_stokes_kernel.hpp"
 #include "physics/newton_spec.hpp"
 
 namespace tearflow::io {
@@ -30,12 +31,8 @@ struct MeshSpec {
   std::function<mesh::Mesh(const struct Case&)> generator;
 };
 
-struct FluidSpec {
-  double density = 1060.0;  ///< [kg/m^3]
-  double viscosity = 0.004; ///< dynamic viscosity [Pa s]
-  /// Time scale of tau_M's transient term [s]; 0: the time step (Bazilevs et al. 2007).
-  double stabilization_time_scale = 0.0;
-};
+/// The fluid and how its stabilization is formed (physics/navier_stokes_kernel.hpp).
+using FluidSpec = physics::FluidProperties;
 
 struct TimeSpec {
   double step = 1e-3;           ///< [s]

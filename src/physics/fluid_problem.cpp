@@ -17,7 +17,7 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
                            GeneralizedAlpha scheme, FieldLayout layout)
     : dmesh_(dmesh), layout_(layout), B_(layout.block), P_(layout.pressure),
       dofs_(dmesh, layout.block), inserter_(dofs_), fluid_(fluid),
-      conditions_(std::move(conditions)), scheme_(scheme) {
+      conditions_(std::move(conditions)), scheme_(scheme), flux_dofs_(dmesh, flux_block) {
   const auto n_local = static_cast<size_t>(dmesh.num_local());
   elements_ = layout_.elements(dmesh);
   // Faces of the fluid: every node on a fluid tet (from the replicated mesh, so that all
@@ -93,6 +93,11 @@ FluidProblem::FluidProblem(const mesh::Mesh& mesh, const fem::DistributedMesh& d
   u_af_.resize(n_local);
   udot_am_.resize(n_local);
   p_.resize(n_local);
+  if (fluid_.stabilization.viscous_correction) {
+    flux_loc_ = flux_dofs_.create_local();
+    flux_global_ = flux_dofs_.create_global();
+    nodal_flux_.resize(n_local);
+  }
 }
 
 void FluidProblem::compute_outlet_vectors() {
@@ -141,6 +146,15 @@ void FluidProblem::begin_step(double t_n, double dt, Vec U_n, Vec Udot_n) {
         mean[c] += 0.25 * (un[B_ * l + c] - w_[l][c]);
     stab_[e] = stabilization(geometry_[e], mean, fluid_, dt);
   }
+  if (fluid_.stabilization.viscous_correction) {
+    // sigma_h from the predictor u_n + alpha_f dt udot_n of u_{n+af}, like tau_M on the mesh
+    // at t_n (navier_stokes_kernel.hpp); u_af_ holds it until the first stage().
+    fem::ReadArray udn(Udotn_loc_);
+    for (Index l = 0; l < dmesh_.num_local(); ++l)
+      for (int c = 0; c < 3; ++c)
+        u_af_[l][c] = un[B_ * l + c] + scheme_.alpha_f * dt * udn[B_ * l + c];
+    reconstruct_viscous_flux();
+  }
   const bc::StepClock clock{t_n, dt, scheme_.alpha_f};
   for (OutletData& o : outlets_)
     o.law = bc::step_law(o.spec.law, o.state.law, o.state.flux, clock);
@@ -174,6 +188,18 @@ void FluidProblem::commit_step(Vec U_next) {
     o.state.law = bc::commit(o.spec.law, o.state.law, o.state.flux, q_next[i], dt_);
     o.state.flux = q_next[i];
   }
+}
+
+double FluidProblem::peak_inflow() const {
+  // The waveform's samples and its spline between them: 720 points over a period.
+  constexpr int samples = 720;
+  double peak = 0.0;
+  for (const bc::InflowProfile& in : conditions_.inflows) {
+    const bc::Waveform& q = in.flow();
+    for (int i = 0; i < samples; ++i)
+      peak = std::max(peak, std::abs(q(q.period() * i / samples)));
+  }
+  return peak;
 }
 
 bool FluidProblem::has_coupled_outlets() const {
@@ -234,13 +260,49 @@ void FluidProblem::stage(Vec U) {
   }
 }
 
-void FluidProblem::gather(const Tet& t, FluidElementState& s) const {
+void FluidProblem::reconstruct_viscous_flux() {
+  if (!fluid_.stabilization.viscous_correction)
+    return;
+  const auto& tets = dmesh_.tets();
+  TF_PETSC(VecZeroEntries(flux_loc_));
+  {
+    fem::WriteArray f(flux_loc_);
+    for (size_t e : elements_) {
+      const Tet& t = tets[e];
+      const SymTensor sigma = viscous_flux(
+          geometry_[e], {u_af_[t[0]], u_af_[t[1]], u_af_[t[2]], u_af_[t[3]]}, fluid_.viscosity);
+      const double share = 0.25 * geometry_[e].volume; // the row sum of the P1 mass matrix
+      for (Index l : t) {
+        double* node = &f[flux_block * l];
+        for (int k = 0; k < 6; ++k)
+          node[k] += share * sigma[k];
+        node[6] += share;
+      }
+    }
+  }
+  TF_PETSC(VecZeroEntries(flux_global_));
+  flux_dofs_.add_local_to_global(flux_loc_, flux_global_);
+  flux_dofs_.global_to_local(flux_global_, flux_loc_);
+  fem::ReadArray f(flux_loc_);
+  for (Index l = 0; l < dmesh_.num_local(); ++l) {
+    const double* node = &f[flux_block * l];
+    for (int k = 0; k < 6; ++k) // nodes of no fluid tet (an FSI wall's) keep zero
+      nodal_flux_[l][k] = node[6] > 0.0 ? node[k] / node[6] : 0.0;
+  }
+}
+
+void FluidProblem::gather(size_t e, FluidElementState& s) const {
+  const Tet& t = dmesh_.tets()[e];
   for (int a = 0; a < 4; ++a) {
     s.u[a] = u_af_[t[a]];
     s.udot[a] = udot_am_[t[a]];
     s.p[a] = p_[t[a]];
     s.w[a] = w_[t[a]];
   }
+  s.viscous = nodal_flux_.empty()
+                  ? Vec3{}
+                  : flux_divergence(geometry_[e], {nodal_flux_[t[0]], nodal_flux_[t[1]],
+                                                   nodal_flux_[t[2]], nodal_flux_[t[3]]});
 }
 
 void FluidProblem::update_outlet_fluxes() {
@@ -272,7 +334,7 @@ void FluidProblem::add_residual(Vec U, Vec R_loc) {
     ElementVector Re;
     for (size_t e : elements_) {
       const Tet& t = tets[e];
-      gather(t, s);
+      gather(e, s);
       navier_stokes_residual(geometry_[e], s, stab_[e], fluid_, Re);
       for (int a = 0; a < 4; ++a)
         for (int c = 0; c < 4; ++c)
@@ -383,7 +445,7 @@ void FluidProblem::add_jacobian(Vec U, Mat J) {
   std::vector<double> Kx(B_ == 4 ? 0 : 16 * B_ * B_); // the element matrix in B_ slots
   inserter_.begin(J);
   for (size_t e : elements_) {
-    gather(tets[e], s);
+    gather(e, s);
     navier_stokes_jacobian(geometry_[e], s, stab_[e], fluid_, c_u, c_a, K);
     if (!interface_mask_.empty() && interface_mask_[e])
       add_interface_motion(tets[e], interface_mask_[e], geometry_[e], s, stab_[e], K);

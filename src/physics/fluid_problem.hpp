@@ -22,6 +22,7 @@
 #include "physics/field_layout.hpp"
 #include "physics/generalized_alpha.hpp"
 #include "physics/navier_stokes_kernel.hpp"
+#include "physics/newton_spec.hpp"
 
 namespace tearflow::physics {
 
@@ -64,6 +65,10 @@ public:
   void set_dirichlet_residual(Vec U, Vec R) const;
   /// Zeroes J and adds the element and backflow terms (no assembly, no Dirichlet rows).
   void add_jacobian(Vec U, Mat J);
+  /// Newton's per-field test (newton_spec.hpp): the continuity slot and the inflow's peak.
+  ResidualFields residual_fields() const { return {P_, -1, peak_inflow()}; }
+  /// The largest |Q| of the inflows' waveforms over a period [m^3/s]; 0 without inflow.
+  double peak_inflow() const;
   /// Global rows of the owned prescribed velocities.
   const std::vector<PetscInt>& dirichlet_rows() const { return dirichlet_rows_; }
   /// Puts the fluid on the configuration x (per local node, [m]) moving with velocity w
@@ -118,8 +123,11 @@ private:
   };
 
   void stage(Vec U); ///< local U -> u_af, udot_am, p per local node
-  /// The staged nodal values of one tet's nodes.
-  void gather(const Tet& t, FluidElementState& s) const;
+  /// sigma_h at every local node from the velocity in u_af_: the lumped L2 projection of the
+  /// elements' 2 mu eps(u) (navier_stokes_kernel.hpp), summed over the ranks (collective).
+  void reconstruct_viscous_flux();
+  /// The staged nodal values of local tet e, with div sigma_h on it.
+  void gather(size_t e, FluidElementState& s) const;
   /// K += the element residual's derivative through the motion of its following nodes
   /// (mask: bit a for node a), by forward differences of the residual kernel.
   void add_interface_motion(const Tet& t, unsigned mask, const fem::TetGeometry& geo,
@@ -162,6 +170,12 @@ private:
   fem::OwnedVec U_loc_, R_loc_, Un_loc_, Udotn_loc_;
   std::vector<Vec3> u_af_, udot_am_;
   std::vector<double> p_;
+  // The viscous flux's projection: per node the six components of sum V_e/4 sigma_e and
+  // sum V_e/4 (block 7), and their quotient sigma_h.
+  static constexpr int flux_block = 7;
+  fem::DofMap flux_dofs_;
+  fem::OwnedVec flux_loc_, flux_global_;
+  std::vector<SymTensor> nodal_flux_;
 };
 
 } // namespace tearflow::physics

@@ -24,6 +24,9 @@ public:
   /// Starts from rest (U = 0, Udot = 0) unless the caller overwrites state().
   Vec solution() const { return U_; } ///< (u, p) at the current time
   Vec acceleration() const { return Udot_; }
+  /// The pressure's slot in acceleration() (node-major, after the three velocity components)
+  /// holds the pressure's change over the last step, 0 before any step.
+  static constexpr int pressure_slot = 3;
 
   /// One step t -> t + dt. Throws SolverError naming the step if Newton fails or a NaN
   /// appears; the state is then left at time t.
@@ -41,14 +44,24 @@ public:
   void rebuild_preconditioner_next() { lag_.rebuild_next(); }
 
 private:
+  void store_pressure_change();
   static PetscErrorCode form_residual(SNES, Vec U, Vec R, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec U, Mat J, Mat P, void* ctx);
   static PetscErrorCode shell_mult(Mat J, Vec x, Vec y);
+  /// Newton's test, field by field (newton_spec.hpp).
+  static PetscErrorCode converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm,
+                                  PetscReal fnorm, SNESConvergedReason* reason, void* ctx);
+  /// ||R|| of the momentum rows, ||R||_1 of the continuity rows, ||R|| of a wall's constraint.
+  std::array<double, 3> field_norms(Vec R) const;
   /// Whether Newton iteration k keeps the Jacobian of the one before: the last iteration
   /// contracted ||R|| by at least -<prefix>jacobian_reuse_contraction (fluid_solver.cpp).
   bool jacobian_reusable(SNES snes) const;
 
   Problem& problem_;
+  NewtonSpec newton_;
+  std::array<double, 3> largest_norms_{}; ///< the largest field_norms in the step so far
+  bool monitor_fields_ = false;
+  ///< -<prefix>newton_field_norms: print them
   fem::OwnedVec U_, Udot_, U_prev_, R_;
   fem::OwnedMat P_, J_;
   fem::OwnedMat exact_operator_; ///< finite-difference operator, once a step needed it

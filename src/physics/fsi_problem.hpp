@@ -69,6 +69,9 @@ public:
   /// stepper then retries a failed step with the exact operator (fluid_solver.hpp).
   bool jacobian_is_approximate() const { return moving_mesh_; }
   bool has_coupled_outlets() const { return fluid_.has_coupled_outlets(); }
+  ResidualFields residual_fields() const {
+    return {fluid_pressure, wall_pressure, fluid_.peak_inflow()};
+  }
   void add_coupled_outlets(Vec x, Vec y) const { fluid_.add_coupled_outlets(x, y); }
   /// Acceleration and displacement at t_{n+1} from the converged U_{n+1}.
   void update_acceleration(Vec U_next, Vec U_n, Vec Udot);

@@ -101,7 +101,7 @@ bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m) {
 }
 
 physics::FluidProperties fluid_properties(const io::Case& c) {
-  return {c.fluid.density, c.fluid.viscosity, c.fluid.stabilization_time_scale};
+  return c.fluid;
 }
 
 FlowModel::FlowModel(const io::Case& c, const mesh::Mesh& m, const fem::DistributedMesh& dmesh)
@@ -150,11 +150,31 @@ std::optional<double> FlowModel::start_from_0d() {
   return p0;
 }
 
+fem::OwnedVec FlowModel::state_at_step_time() const {
+  // The scheme's pressure is its stage value p_{n+af} (fluid_problem.hpp); with the change
+  // over the last step the stepper keeps, p(t_{n+1}) = p_{n+af} + (1 - af) (p_{n+af} -
+  // p_{n-1+af}), second order like the scheme. Before any step the change is 0 and the state
+  // is the initial one.
+  fem::OwnedVec state;
+  TF_PETSC(VecDuplicate(solution(), state.out()));
+  TF_PETSC(VecCopy(solution(), state));
+  const double lag = 1.0 - fluid().scheme().alpha_f;
+  const int bs = block(), slot = physics::NewtonStepper<physics::FluidProblem>::pressure_slot;
+  fem::WriteArray u(state);
+  fem::ReadArray change(derivative());
+  PetscInt n = 0;
+  TF_PETSC(VecGetLocalSize(state, &n));
+  for (PetscInt i = slot; i < n; i += bs)
+    u[i] += lag * change[i];
+  return state;
+}
+
 StepSample FlowModel::sample() const {
   StepSample s{step(), time(), {}};
   const std::vector<physics::FluidProblem::OutletState> states = fluid().outlet_states();
   const auto& outlets = fluid().conditions().outlets;
-  for (const physics::FaceMeasure& m : fluid().measure_faces(solution())) {
+  const fem::OwnedVec state = state_at_step_time();
+  for (const physics::FaceMeasure& m : fluid().measure_faces(state)) {
     FaceSample f{m, std::nullopt};
     for (size_t i = 0; i < outlets.size(); ++i)
       if (outlets[i].face == m.face)
@@ -175,6 +195,7 @@ void FlowModel::begin_record() {
 
 std::vector<io::PointField> FlowModel::fields() const {
   const std::vector<double> U = gather(solution()), Udot = gather(derivative());
+  const std::vector<double> aligned = gather(state_at_step_time());
   const std::vector<double> D = wall_state();
   if (fem::mpi_rank(dmesh_.comm()) != 0)
     return {};
@@ -182,7 +203,7 @@ std::vector<io::PointField> FlowModel::fields() const {
   // du/dt as the integrator holds it: with the frame before (one step earlier) it gives the
   // stage the step's equations held at, for the conservative flux (analysis/conservative_flux).
   io::PointField velocity{"velocity", 3, {}}, pressure{"pressure", 1, {}};
-  io::PointField acceleration{"acceleration", 3, {}};
+  io::PointField stage_pressure{"stage_pressure", 1, {}}, acceleration{"acceleration", 3, {}};
   io::PointField displacement{"displacement", 3, {}}, wall_pressure{"wall_pressure", 1, {}};
   velocity.values.reserve(3 * mesh_.points.size());
   for (Index n = 0; n < mesh_.num_nodes(); ++n) {
@@ -190,7 +211,8 @@ std::vector<io::PointField> FlowModel::fields() const {
       velocity.values.push_back(U[bs * n + c]);
       acceleration.values.push_back(Udot[bs * n + c]);
     }
-    pressure.values.push_back(U[bs * n + 3]);
+    pressure.values.push_back(aligned[bs * n + 3]);
+    stage_pressure.values.push_back(U[bs * n + 3]);
     if (D.empty())
       continue;
     for (int c = 0; c < 3; ++c)
@@ -198,9 +220,9 @@ std::vector<io::PointField> FlowModel::fields() const {
     wall_pressure.values.push_back(U[bs * n + physics::FsiProblem::wall_pressure]);
   }
   if (D.empty())
-    return {velocity, pressure, acceleration};
+    return {velocity, pressure, acceleration, stage_pressure};
   // ParaView: "Warp By Vector" with displacement shows the deformed geometry.
-  return {velocity, pressure, acceleration, displacement, wall_pressure};
+  return {velocity, pressure, acceleration, displacement, wall_pressure, stage_pressure};
 }
 
 void FlowModel::report_cycle(const run::CycleStats& c, bool periodic) const {

@@ -46,6 +46,13 @@ public:
   physics::FluidProblem& fluid() const { return *fluid_; }
   /// The face measures of the current state (collective).
   StepSample sample() const;
+  /// The current state with the fluid's pressure at the state's time t_{n+1} (collective).
+  /// Generalized-alpha poses the step's equations at t_n + alpha_f dt, where the pressure
+  /// unknown is the multiplier of the stage's continuity: taken as it is beside the velocity
+  /// at t_{n+1}, it lagged by (1 - alpha_f) dt (a third of a step at rho_inf 0.5). It is
+  /// extrapolated linearly from the last two stages; frames and faces.csv show it, the
+  /// unknown itself goes to the frames as `stage_pressure` (the conservative flux reads it).
+  fem::OwnedVec state_at_step_time() const;
 
   int block() const override { return physics::FluidProblem::block; }
   Vec solution() const override { return stepper_->solution(); }

@@ -34,9 +34,19 @@ io::Fingerprint run_fingerprint(const io::Case& c, const mesh::Mesh& m) {
   if (!c.boundary_conditions.empty())
     f.emplace_back("fluid", fmt::format("density {} kg/m^3, viscosity {} Pa s", c.fluid.density,
                                         c.fluid.viscosity));
-  if (c.fluid.stabilization_time_scale > 0.0)  // a part of its own only when set: older
-    f.emplace_back("stabilization time scale", // checkpoints keep matching
-                   fmt::format("{} s", c.fluid.stabilization_time_scale));
+  if (!c.boundary_conditions.empty()) {
+    const physics::StabilizationSpec& s = c.fluid.stabilization;
+    f.emplace_back("stabilization time scale", s.time_scale > 0.0
+                                                   ? fmt::format("{} s", s.time_scale)
+                                               : s.time_scale == 0.0 ? std::string("the step")
+                                                                     : std::string("automatic"));
+    f.emplace_back("stabilization",
+                   fmt::format("metric {}, grad-div {}, viscous correction {}",
+                               s.metric == physics::StabilizationSpec::Metric::symmetric
+                                   ? "symmetric"
+                                   : "reference_tet",
+                               s.grad_div, s.viscous_correction ? "on" : "off"));
+  }
   for (const bc::BoundaryCondition& b : c.boundary_conditions)
     f.emplace_back("face " + b.face, condition(b));
   if (c.solid) {
