@@ -10,11 +10,13 @@
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
 #include "core/units.hpp"
+#include "geometry/boundary_layers.hpp"
 #include "geometry/geometry_report.hpp"
 #include "geometry/import.hpp"
 #include "geometry/label_model.hpp"
 #include "geometry/tbad_builder.hpp"
 #include "geometry/voxelize.hpp"
+#include "mesh/readers.hpp"
 
 namespace tearflow::geometry {
 
@@ -47,6 +49,10 @@ struct GeometryOptions {
   // landmarks, station_offset)
   int true_lumen = 1, false_lumen = 2, thrombus_label = -1;
   std::vector<std::string> tear_areas;
+  // boundary layers (tbad, labels, layers; mm): count, first layer, growth, walls
+  int layers = 0;
+  double first_layer = NAN, layer_growth = NAN, layer_fraction = NAN;
+  std::vector<std::string> layer_walls;
   // voxelize (its DIR is `dir`), in mm and degrees
   double voxel_spacing = 1.0;
   std::vector<double> rotate;
@@ -112,6 +118,74 @@ std::pair<std::string, std::string> name_value(const std::string& text, const ch
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
+BoundaryLayerSpec layer_spec(const GeometryOptions& o) {
+  BoundaryLayerSpec spec;
+  spec.count = o.layers;
+  if (std::isnan(o.first_layer))
+    input_error("--layers {}: give the first layer's thickness with --first-layer (mm)", o.layers);
+  spec.first = o.first_layer * mm;
+  if (!std::isnan(o.layer_growth))
+    spec.growth = o.layer_growth;
+  if (!std::isnan(o.layer_fraction))
+    spec.max_fraction = o.layer_fraction;
+  return spec;
+}
+
+void print_layers(const BoundaryLayerReport& r, const BoundaryLayerSpec& spec) {
+  fmt::print("boundary layers: {} of {:.3g} mm growing by {}: {} wall nodes, {} tets added; "
+             "total {:.2f} mm; thinner at {} nodes where the lumen is thin, none at {}\n",
+             spec.count, spec.first / mm, spec.growth, r.wall_nodes, r.tets_added, r.thickest / mm,
+             r.thinned, r.ended);
+}
+
+/// --layers, --first-layer, --layer-growth, --layer-fraction on a model-building command.
+void add_layer_options(CLI::App* sub, GeometryOptions& o) {
+  sub->add_option("--layers", o.layers,
+                  "prismatic boundary layers on the lumen's wall and the flap (0: none; "
+                  "docs/geometry.md)");
+  sub->add_option("--first-layer", o.first_layer, "the wall layer's thickness, mm");
+  sub->add_option("--layer-growth", o.layer_growth,
+                  "thickness ratio of neighbouring layers, inwards (1.2)");
+  sub->add_option("--layer-fraction", o.layer_fraction,
+                  "largest share of the lumen's local thickness the layers take (0.3)");
+}
+
+/// The model's mesh with the layers the options ask for (none: as it is), rewritten in DIR.
+void layer_model(const GeometryOptions& o, const mesh::Mesh& built, const Landmarks& landmarks) {
+  if (o.layers <= 0)
+    return;
+  const BoundaryLayerSpec spec = layer_spec(o);
+  BoundaryLayerReport report;
+  const mesh::Mesh layered = add_boundary_layers(built, "fluid", {"interface"}, spec, &report);
+  print_layers(report, spec);
+  write_geometry(layered, landmarks, o.output);
+}
+
+/// `geometry layers IN -o OUT`: a geometry directory's mesh (or a .msh file, in --units) with
+/// boundary layers, written as OUT/mesh.msh with IN's landmarks.
+int run_layers(const GeometryOptions& o) {
+  const std::filesystem::path in = o.dir;
+  const bool directory = std::filesystem::is_directory(in);
+  const std::filesystem::path msh = directory ? GeometryFiles{in}.mesh() : in;
+  const double scale = directory ? mm : units::length_scale(o.units, "--units");
+  mesh::Mesh m = mesh::read_mesh(msh, scale);
+  std::vector<std::string> walls = o.layer_walls;
+  if (walls.empty())
+    walls = {m.has_face("interface") ? "interface" : "wall"};
+  const BoundaryLayerSpec spec = layer_spec(o);
+  BoundaryLayerReport report;
+  const mesh::Mesh layered = add_boundary_layers(m, "fluid", walls, spec, &report);
+  print_layers(report, spec);
+  if (directory && std::filesystem::is_regular_file(GeometryFiles{in}.landmarks())) {
+    write_geometry(layered, read_landmarks(GeometryFiles{in}.landmarks()), o.output);
+  } else {
+    std::filesystem::create_directories(o.output);
+    write_msh(layered, GeometryFiles{o.output}.mesh());
+  }
+  fmt::print("wrote {}\n", GeometryFiles{o.output}.mesh().string());
+  return 0;
+}
+
 int run_labels(const GeometryOptions& o) {
   LabelModelOptions lo;
   lo.dissection.roles = {o.true_lumen, o.false_lumen, o.thrombus_label};
@@ -167,6 +241,7 @@ int run_labels(const GeometryOptions& o) {
              m.seconds_landmarks, m.seconds_mesh, GeometryFiles{o.output}.mesh().string(),
              GeometryFiles{o.output}.landmarks().string(),
              (std::filesystem::path(o.output) / "labels.json").string());
+  layer_model(o, m.mesh, m.landmarks);
   return 0;
 }
 
@@ -237,6 +312,7 @@ GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<Geom
   tbad_->add_option("--lsa-radius", o.lsa_radius, "mm (4.5)");
   tbad_->add_option("--branch-length", o.branch_length,
                     "branch length from the aortic centreline, mm (45)");
+  add_layer_options(tbad_, o);
   tbad_->add_flag("-v,--verbose", o.verbose, "show Gmsh's progress");
 
   import_ =
@@ -304,8 +380,30 @@ GeometryCommand::GeometryCommand(CLI::App& app) : options_(std::make_unique<Geom
                      "landmarks JSON to use instead of the ones placed on the centreline");
   labels->add_option("--station-offset", o.station_offset,
                      "TL1/FL1 (TL5/FL5) distal (proximal) to the entry (exit) tear, mm (24)");
+  add_layer_options(labels, o);
   labels->add_flag("-v,--verbose", o.verbose, "show the stages");
   for (CLI::Option* option : labels->get_options())
+    if (option->get_type_name() == "FLOAT")
+      option->check(finite);
+
+  CLI::App* layers = command_->add_subcommand(
+      "layers", "add prismatic boundary layers on the lumen's wall to a model's mesh");
+  layers->add_option("in", o.dir, "geometry directory (mesh.msh, landmarks.json) or a .msh file")
+      ->required();
+  layers->add_option("-o,--output", o.output, "output directory")->required();
+  layers->add_option("--layers", o.layers, "number of layers")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  layers->add_option("--first-layer", o.first_layer, "the wall layer's thickness, mm")->required();
+  layers->add_option("--growth", o.layer_growth, "thickness ratio of neighbouring layers (1.2)");
+  layers->add_option("--max-fraction", o.layer_fraction,
+                     "largest share of the lumen's local thickness the layers take (0.3)");
+  layers
+      ->add_option("--walls", o.layer_walls,
+                   "faces to grow layers on (interface if the mesh has it, else wall)")
+      ->delimiter(',');
+  layers->add_option("--units", o.units, "length unit of a .msh file: m, cm or mm (mm)");
+  for (CLI::Option* option : layers->get_options())
     if (option->get_type_name() == "FLOAT")
       option->check(finite);
 
@@ -359,6 +457,7 @@ int GeometryCommand::run() const {
                spec.element_size / mm, b.mesh.num_nodes(), fluid, b.mesh.tets.size() - fluid,
                b.cad_seconds, b.mesh_seconds, GeometryFiles{o.output}.mesh().string(),
                GeometryFiles{o.output}.landmarks().string());
+    layer_model(o, b.mesh, b.landmarks);
     return 0;
   }
   if (import_->parsed()) {
@@ -386,6 +485,8 @@ int GeometryCommand::run() const {
   }
   if (command_->get_subcommand("labels")->parsed())
     return run_labels(o);
+  if (command_->get_subcommand("layers")->parsed())
+    return run_layers(o);
   if (const CLI::App* voxelize = command_->get_subcommand("voxelize"); voxelize->parsed()) {
     VoxelizeOptions vo;
     vo.spacing = o.voxel_spacing * mm;

@@ -25,10 +25,6 @@ namespace tearflow::geometry {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// Writes a mesh as Gmsh MSH 2.2 (ASCII), coordinates in mm, one physical group per region
-// and per face: the format read_gmsh and read_fsi_mesh read back.
 void write_msh(const mesh::Mesh& m, const fs::path& file) {
   std::ofstream out(file);
   out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n"
@@ -63,6 +59,8 @@ void write_msh(const mesh::Mesh& m, const fs::path& file) {
   if (!out)
     input_error("could not write '{}'", file.string());
 }
+
+namespace {
 
 // The fluid's boundary must be closed by named faces: every boundary triangle of the fluid
 // region is in a named face (a cap, the wall or the interface).

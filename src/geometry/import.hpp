@@ -39,6 +39,10 @@ struct ImportOptions {
 /// close the fluid (or lack inlet and outlet), landmarks outside the fluid.
 void import_geometry(const ImportOptions& options, const std::filesystem::path& dir);
 
+/// Writes a mesh as Gmsh MSH 2.2 (ASCII), coordinates in mm, one physical group per region
+/// and per face: the format read_gmsh and read_fsi_mesh read back. InputError if it cannot.
+void write_msh(const mesh::Mesh& mesh, const std::filesystem::path& file);
+
 /// Checks a model (check_fsi_mesh; every fluid boundary triangle in a named face, inlet and
 /// outlet among them; every landmark in the fluid) and writes DIR/mesh.msh (mm, Gmsh 2.2)
 /// and DIR/landmarks.json. InputError naming what is wrong.
