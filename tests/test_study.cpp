@@ -357,7 +357,7 @@ TEST(Study, CompliantStudyTunesInItsRunAndResumes) {
   // is the Newton tolerance (1e-3 of each step's first residual, one norm over momentum and
   // continuity rows): measured 0.23-0.27 % of the peak flow on 2026-11-29 (when this test was
   // written: 0.03-0.04 %, and 0.0008 % at 1e-5). The tolerance, 0.5 %, is twice that and a
-  // quarter of the 2 % (docs/performance.md, "A node-order-free metric"). The flap
+  // quarter of the 2 % (docs/history/pipe-pressure-drop-2026-11.md). The flap
   // moves at every station.
   const json metrics = read_json(out / "OR" / "run" / "analysis" / "metrics.json");
   EXPECT_EQ(metrics["flow_stage_frames"], metrics["frame_count"]);
