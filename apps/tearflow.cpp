@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -34,6 +35,7 @@
 #include "report/report_command.hpp"
 #include "rom/rom_command.hpp"
 #include "run/default_case.hpp"
+#include "run/run_lock.hpp"
 #include "run/simulation.hpp"
 #include "run/solid_simulation.hpp"
 #include "study/study_command.hpp"
@@ -71,11 +73,12 @@ struct RunArgs {
   std::string case_file, output, targets_file, start_from, start_case;
   bool restart = false, quiet = false;
   int steps = 0;
+  std::string command_line; ///< as typed (PETSc's options aside), for the folder's lock
 };
 
 int run_command(const RunArgs& args, const std::string& cli_petsc) {
-  const auto& [case_file, output, targets_file, start_from, start_case, restart, quiet, steps] =
-      args;
+  const auto& [case_file, output, targets_file, start_from, start_case, restart, quiet, steps,
+               command_line] = args;
   io::Case c = case_file.empty() ? run::default_case() : load_case_everywhere(case_file);
   if (steps > 0)
     c.time.steps = steps;
@@ -102,6 +105,10 @@ int run_command(const RunArgs& args, const std::string& cli_petsc) {
                   "that run's files; give another folder with -o",
                   start_from, c.output.directory.string());
   }
+  // One run per output folder, held until this command returns (run/run_lock.hpp): before
+  // anything is written there (the built-in case writes its model into it).
+  const std::unique_ptr<io::OutputLock> lock = run::hold_run_folder(
+      c.output.directory, fmt::format("{} (case '{}')", command_line, c.name), PETSC_COMM_WORLD);
   if (!targets_file.empty()) { // outlets corrected at cycle ends (tuning/corrected_run.hpp)
     if (case_file.empty() || (c.solid && c.boundary_conditions.empty()))
       input_error("--targets needs a flow case with RCR outlets (docs/tuning.md)");
@@ -306,6 +313,9 @@ int main(int argc, char** argv) {
   const mri::MriCommand mri_command(app);
   const rom::RomCommand rom_command(app);
 
+  run_args.command_line = std::filesystem::path(ours.front()).filename().string();
+  for (std::size_t i = 1; i < ours.size(); ++i)
+    run_args.command_line += std::string(" ") + ours[i];
   int code = 0;
   bool all_ranks_stopped = false; // every rank caught the same error: none is left waiting
   try {

@@ -129,6 +129,32 @@ TEST(CliRun, RestartOfAChangedCaseIsRefusedNamingTheChange) {
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after_in)), {}), faces);
 }
 
+TEST(CliRun, RestartOfAnotherCasesRunIsRefusedNamingWhatDiffers) {
+  // Issue 62: `--restart` into a folder whose run is another case's. Same mesh, another
+  // outlet law: refused naming the face. Another mesh: refused as a different run naming the
+  // mesh and every other part, where it said only that the node counts differ.
+  const fs::path dir = fresh_dir("restart-another");
+  ASSERT_EQ(
+      run("run " + (data / "runs/small_pipe_half.yaml").string() + " -q -o " + dir.string()).code,
+      0);
+  std::ifstream faces_in(dir / "faces.csv");
+  const std::string faces((std::istreambuf_iterator<char>(faces_in)), {});
+  const Result rcr = run("run " + (data / "runs/small_pipe_rcr.yaml").string() +
+                         " -q --restart -o " + dir.string());
+  EXPECT_EQ(rcr.code, 2) << rcr.output;
+  EXPECT_THAT(rcr.output, testing::HasSubstr("was written by a different run"));
+  EXPECT_THAT(rcr.output, testing::HasSubstr("face outlet: resistance 100000000 Pa s/m^3"));
+  const Result other = run("run " + (data / "runs/coarse_pipe_steady.yaml").string() +
+                           " -q --restart -o " + dir.string());
+  EXPECT_EQ(other.code, 2) << other.output;
+  EXPECT_THAT(other.output, testing::HasSubstr("was written by a different run"));
+  EXPECT_THAT(other.output, testing::HasSubstr("\n  mesh: 583 nodes"));
+  EXPECT_THAT(other.output,
+              testing::HasSubstr("\n  time step: 0.01 s in the checkpoint; now 0.02 s"));
+  std::ifstream after_in(dir / "faces.csv");
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after_in)), {}), faces);
+}
+
 TEST(CliRun, StartFromACheckpointGoesOnAtItsTimeWithTheCasesStep) {
   // A finer step from a periodic state (the time-step study of docs/performance.md): the
   // state and time come from the checkpoint, the step from the case.

@@ -400,7 +400,12 @@ TEST(Mri2d, CineSplitsLuminaJoinedAcrossAThinFlap) {
       [&] {
         mri::track_lumina(damaged, "1", {-6.2e-3, 0, 5e-3}, Vec3{6.2e-3, 0, 5e-3});
       },
-      "not a number");
+      "station 1, frame 1 (t = ");
+  expect_input_error(
+      [&] {
+        mri::track_lumina(damaged, "1", {-6.2e-3, 0, 5e-3}, Vec3{6.2e-3, 0, 5e-3});
+      },
+      "not numbers (NaN or infinite), from magnitude; the areas would be wrong");
   // One frame without an R-R interval has no cycle.
   mri::Flow4D one = cine;
   one.frames.resize(1);
@@ -421,5 +426,8 @@ TEST(MriDicom, BadInputOf2dScans) {
   std::filesystem::remove_all(dir / "magnitude-only/vx");
   std::filesystem::remove_all(dir / "magnitude-only/vy");
   expect_input_error([&] { mri::read_dicom(dir / "magnitude-only"); }, "one slice");
+  // Issue 62: what it most likely is, a 4D export short of its phase series, is said first.
+  expect_input_error([&] { mri::read_dicom(dir / "magnitude-only"); },
+                     "a magnitude series alone, 3 slices per frame: the phase series are missing");
   expect_input_error([&] { mri::encode(data, mri::Encoding::through_plane); }, "one slice");
 }

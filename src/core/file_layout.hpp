@@ -18,6 +18,8 @@ struct GeometryFiles {
 /// A run directory (`tearflow run`, `output.directory`) and what is made from it.
 struct RunFiles {
   static constexpr const char* kMetrics = "metrics.json"; ///< in the analysis folder
+  /// The lock a running `tearflow run` holds on its folder, naming it (io/output_lock.hpp).
+  static constexpr const char* kLock = ".run.lock";
   std::filesystem::path dir;
   std::filesystem::path flow_pvd() const { return dir / "flow.pvd"; }
   std::filesystem::path checkpoint() const { return dir / "checkpoint.bin"; }

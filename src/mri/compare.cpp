@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/units.hpp"
+#include "mri/non_finite.hpp"
 
 namespace tearflow::mri {
 
@@ -96,6 +97,7 @@ VoxelComparison compare_voxels(const Flow4D& sim, const Flow4D& mri) {
   if (!sim.grid.same_as(mri.grid) || sim.frames.size() != mri.frames.size())
     input_error("voxel comparison: the simulated scan must share the MRI's grid and frames");
   VoxelComparison c;
+  c.scan_non_finite = non_finite_json(mri);
   const std::size_t n = sim.grid.count();
   double s1 = 0, s2 = 0, a1 = 0;
   std::vector<double> angles;
@@ -105,9 +107,14 @@ VoxelComparison compare_voxels(const Flow4D& sim, const Flow4D& mri) {
       return Vec3{fr.velocity[0][v], fr.velocity[1][v], fr.velocity[2][v]};
     };
     double largest = 0;
+    std::vector<std::size_t> lumen;
     for (std::size_t v = 0; v < n; ++v)
-      if (fs.magnitude[v] >= 0.6f) // fluid fraction >= 1/2
+      if (fs.magnitude[v] >= 0.6f) { // fluid fraction >= 1/2
         largest = std::max(largest, std::sqrt(dot(vec(fs, v), vec(fs, v))));
+        lumen.push_back(v);
+      }
+    refuse_non_finite(mri, f, lumen, 1, 3, "mri compare --scan", "the lumen's voxels",
+                      "the speed and angle differences would be wrong");
     for (std::size_t v = 0; v < n; ++v) {
       if (fs.magnitude[v] < 0.6f)
         continue;
@@ -143,7 +150,8 @@ nlohmann::json VoxelComparison::to_json() const {
           {"speed_difference_sd_m_per_s", speed_difference_sd},
           {"angle_voxel_frames", angle_voxel_frames},
           {"angle_mean_deg", angle_mean_deg},
-          {"angle_median_deg", angle_median_deg}};
+          {"angle_median_deg", angle_median_deg},
+          {"scan_non_finite", scan_non_finite}};
 }
 
 nlohmann::json Comparison::to_json() const {

@@ -41,6 +41,9 @@ struct VoxelComparison {
   std::size_t voxel_frames = 0, angle_voxel_frames = 0;
   double speed_difference_mean = 0, speed_difference_sd = 0; ///< [m/s]
   double angle_mean_deg = 0, angle_median_deg = 0;
+  /// The scan's values that are not numbers (non_finite.hpp), all outside the lumen's voxels
+  /// (inside, compare_voxels refuses).
+  nlohmann::json scan_non_finite = nlohmann::json::object();
   nlohmann::json to_json() const;
 };
 

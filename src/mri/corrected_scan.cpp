@@ -3,8 +3,11 @@
 
 #include <chrono>
 
+#include <spdlog/spdlog.h>
+
 #include "mri/corrections.hpp"
 #include "mri/image_io.hpp"
+#include "mri/non_finite.hpp"
 
 namespace tearflow::mri {
 
@@ -26,6 +29,12 @@ Flow4D read_corrected(const std::filesystem::path& input, const CorrectionChoice
        {data.grid.spacing[0] * 1e3, data.grid.spacing[1] * 1e3, data.grid.spacing[2] * 1e3}},
       {"frames", data.frames.size()},
       {"venc_m_per_s", data.venc}};
+  // Values that are not numbers, said once here for every command and recorded with the
+  // reading; a measurement that reads one refuses (non_finite.hpp), so a command that ends
+  // well did not use them.
+  report["non_finite"] = non_finite_json(data);
+  for (const std::string& line : describe_non_finite(data))
+    spdlog::warn("{}", line);
   if (data.encoding == Encoding::magnitude)
     return data; // no phase to correct
   t0 = std::chrono::steady_clock::now();

@@ -28,6 +28,7 @@
 #include <itkMetaDataObject.h>
 
 #include "core/error.hpp"
+#include "mri/non_finite.hpp"
 
 namespace tearflow::mri {
 
@@ -399,6 +400,12 @@ Flow4D read_dicom(const fs::path& dir, const ReadOptions& options) {
   // One frame count, one grid, one slice count.
   const std::string where0 = fmt::format("'{}', {} series", dir.string(), role_names[0]);
   const ImageGrid grid = frame_grid(series[0].frames[0], where0);
+  if (out.encoding == Encoding::magnitude && grid.size[2] != 1)
+    input_error("'{}': a magnitude series alone, {} slices per frame: the phase series are "
+                "missing. 4D flow needs three phase series (ImageType P) whose SequenceName or "
+                "SeriesDescription ends in rl, ap and fh beside the magnitude; a cine scan "
+                "(magnitude only) is one slice",
+                dir.string(), grid.size[2]);
   if (out.encoding != Encoding::velocity_3d && grid.size[2] != 1)
     input_error("'{}': {} with {} slices per frame; a 2D scan (phase contrast or cine) is one "
                 "slice: give each slice's folder on its own",
@@ -489,7 +496,20 @@ Flow4D read_dicom(const fs::path& dir, const ReadOptions& options) {
   }
   if (out.frames.size() > 1)
     out.frame_window = (out.frames.back().time - out.frames.front().time) / (out.frames.size() - 1);
+  // Each image's source for messages: its series and the folder of its first file. Then the
+  // values that are not numbers (rescaled pixels can be: a float pixel format, a rescale
+  // slope that is not a number), counted as the volumes' are.
+  for (std::size_t r = 0; r < series.size(); ++r) {
+    const std::string source =
+        fmt::format("'{}', {} series", series[r].frames[0][0]->file.parent_path().string(),
+                    role_names[present[r]]);
+    if (present[r] == 4)
+      out.sources[1] = source;
+    else
+      out.sources[static_cast<std::size_t>(present[r])] = source;
+  }
   out.check(dir.string());
+  out.non_finite = survey_non_finite(out, fmt::format("'{}'", dir.string()));
   return out;
 }
 

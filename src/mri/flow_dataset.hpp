@@ -54,6 +54,16 @@ inline double slice_reach(const ImageGrid& g) {
   return g.spacing[2] > 5e-3 ? g.spacing[2] : 5e-3;
 }
 
+/// The values of one image of a scan that are not numbers (NaN or infinite), counted when the
+/// scan is read (mri/non_finite.hpp). The images: magnitude, then what the encoding measured
+/// (vx, vy, vz; the through-plane value; none for cine).
+struct NonFiniteImage {
+  int image = 0;                          ///< 0 magnitude, 1..3 vx, vy, vz; 1 a 2D scan's v . n
+  std::vector<std::size_t> per_frame;     ///< such values in each frame
+  std::array<int, 3> lowest{}, highest{}; ///< the index box of the voxels holding one
+  std::size_t total() const;
+};
+
 struct Flow4D {
   ImageGrid grid;
   Encoding encoding = Encoding::velocity_3d;
@@ -61,6 +71,11 @@ struct Flow4D {
   double frame_window = 0.0; ///< time each frame averages over [s]; 0 unknown
   double period = 0.0;       ///< the cardiac cycle (R-R interval) the frames span [s]; 0 unknown
   std::vector<Frame> frames; ///< in time order
+  /// Where each image was read from, for messages (the file of a volume, the series of DICOM
+  /// files), indexed as NonFiniteImage::image; empty for a scan made in memory.
+  std::array<std::string, 4> sources;
+  /// The images holding values that are not numbers, as read (none: empty).
+  std::vector<NonFiniteImage> non_finite;
   /// InputError (naming `where`) for frames of the wrong size or out of time order, or a 2D
   /// encoding on more than one slice.
   void check(const std::string& where) const;
@@ -82,10 +97,13 @@ struct Trilinear {
   std::array<double, 8> weight{};
   /// False outside the hull of the voxel centres.
   bool locate(const ImageGrid& grid, const Vec3& index);
+  /// A voxel of weight 0 is not read: a value that is not a number beside the point (in the
+  /// next slice, when the point lies on a voxel plane) does not make the sample one.
   double operator()(const std::vector<float>& field) const {
     double v = 0.0;
     for (int c = 0; c < 8; ++c)
-      v += weight[c] * field[voxel[c]];
+      if (weight[c] != 0.0)
+        v += weight[c] * field[voxel[c]];
     return v;
   }
 };

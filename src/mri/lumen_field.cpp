@@ -1,6 +1,7 @@
 #include "mri/lumen_field.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <vtkFloatArray.h>
 #include <vtkNew.h>
@@ -11,6 +12,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include "core/error.hpp"
+#include "mri/non_finite.hpp"
 
 namespace tearflow::mri {
 
@@ -40,14 +42,36 @@ LumenLevel lumen_level(const Flow4D& data, double lumen_fraction) {
   for (const Frame& f : data.frames)
     for (std::size_t v = 0; v < n; ++v)
       l.mean_magnitude[v] += share * f.magnitude[v];
-  std::vector<float> sorted = l.mean_magnitude;
-  const auto p99 = sorted.begin() + static_cast<long>((99 * n) / 100);
-  std::nth_element(sorted.begin(), p99, sorted.end());
-  l.level = n > 0 ? lumen_fraction * *p99 : 0.0;
+  // The percentile over the voxels whose mean is a number (a NaN breaks nth_element's order).
+  std::vector<float> sorted;
+  sorted.reserve(n);
+  for (float m : l.mean_magnitude)
+    if (std::isfinite(m))
+      sorted.push_back(m);
+  const auto p99 = sorted.begin() + static_cast<long>((99 * sorted.size()) / 100);
+  if (!sorted.empty())
+    std::nth_element(sorted.begin(), p99, sorted.end());
+  l.level = sorted.empty() ? 0.0 : lumen_fraction * *p99;
   if (!(l.level > 0))
     input_error("MRI lumen: the time-mean magnitude's level ({} of its 99th percentile) is "
                 "{:.3g}: the scan holds no signal to find the lumen by",
                 lumen_fraction, l.level);
+  // A mean that is not a number in or beside the lumen would move its boundary: refused,
+  // naming the first frame holding one. Elsewhere it is not lumen and changes nothing.
+  std::vector<std::size_t> near;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (std::isfinite(l.mean_magnitude[v]))
+      continue;
+    bool beside = false;
+    data.grid.for_each_neighbour(v, [&](std::size_t u, int, int, int) {
+      beside = beside || l.mean_magnitude[u] >= l.level;
+    });
+    if (beside)
+      near.push_back(v);
+  }
+  for (std::size_t f = 0; f < data.frames.size() && !near.empty(); ++f)
+    refuse_non_finite(data, f, near, 0, 0, "MRI lumen", "its boundary (the time-mean magnitude)",
+                      "the lumen would be wrong");
   return l;
 }
 
@@ -69,6 +93,22 @@ vtkSmartPointer<vtkUnstructuredGrid> lumen_field(const Flow4D& data, std::size_t
   if (hi[0] < 0)
     input_error("MRI frame {} (t = {} s): no voxel reaches the lumen level {:.3g}", frame, f.time,
                 lumen.level);
+  // The lumen's cells interpolate the velocity of their corners: the lumen voxels and those
+  // beside them.
+  std::vector<std::size_t> read;
+  for (int k = lo[2]; k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int i = lo[0]; i <= hi[0]; ++i) {
+        const std::size_t v = g.linear(i, j, k);
+        bool used = lumen.mean_magnitude[v] >= lumen.level;
+        g.for_each_neighbour(v, [&](std::size_t u, int, int, int) {
+          used = used || lumen.mean_magnitude[u] >= lumen.level;
+        });
+        if (used)
+          read.push_back(v);
+      }
+  refuse_non_finite(data, frame, read, 1, 3, "MRI lumen", "its cells' velocity",
+                    "the pictures would be wrong");
   const int nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
   const vtkIdType count = static_cast<vtkIdType>(nx) * ny * nz;
   vtkNew<vtkPoints> points;

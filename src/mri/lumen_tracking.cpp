@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 #include <itkImage.h>
 #include <itkMorphologicalWatershedFromMarkersImageFilter.h>
 
 #include "core/error.hpp"
+#include "mri/non_finite.hpp"
 #include "mri/pixel_regions.hpp"
 
 namespace tearflow::mri {
@@ -23,14 +25,22 @@ double median(std::vector<float> v) {
   return v[v.size() / 2];
 }
 
-/// The median magnitude of the 3 x 3 pixels at p.
-double blood_level(const std::vector<float>& m, const PixelGrid& s, std::size_t p) {
-  std::vector<float> around;
+/// The 3 x 3 pixels at p (fewer at the slice's edge).
+std::vector<std::size_t> around(const PixelGrid& s, std::size_t p) {
+  std::vector<std::size_t> out;
   const int i = static_cast<int>(p % s.nx), j = static_cast<int>(p / s.nx);
   for (int b = std::max(0, j - 1); b <= std::min(s.ny - 1, j + 1); ++b)
     for (int a = std::max(0, i - 1); a <= std::min(s.nx - 1, i + 1); ++a)
-      around.push_back(m[static_cast<std::size_t>(b) * s.nx + a]);
-  return median(std::move(around));
+      out.push_back(static_cast<std::size_t>(b) * s.nx + a);
+  return out;
+}
+
+/// The median magnitude of the 3 x 3 pixels at p.
+double blood_level(const std::vector<float>& m, const PixelGrid& s, std::size_t p) {
+  std::vector<float> values;
+  for (std::size_t q : around(s, p))
+    values.push_back(m[q]);
+  return median(std::move(values));
 }
 
 /// Splits `both` (one region holding both markers) by the watershed from the markers on the
@@ -49,7 +59,11 @@ std::pair<Pixels, Pixels> split(const Pixels& both, const std::vector<float>& m,
   markers->SetRegions(region);
   markers->Allocate();
   markers->FillBuffer(0);
-  const float top = *std::max_element(m.begin(), m.end());
+  // The largest number: a NaN elsewhere in the slice (reported, not read) must not be it.
+  float top = std::numeric_limits<float>::lowest();
+  for (float x : m)
+    if (std::isfinite(x))
+      top = std::max(top, x);
   float* h = height->GetBufferPointer();
   for (std::size_t p = 0; p < s.count(); ++p)
     h[p] = both[p] ? top - m[p] : 2 * top + 1;
@@ -162,6 +176,12 @@ LuminaSeries track_lumina(const Flow4D& cine, const std::string& station, const 
   Pixels previous_tl, previous_fl;
   for (std::size_t f = 0; f < cine.frames.size(); ++f) {
     const std::vector<float>& m = cine.frames[f].magnitude;
+    std::vector<std::size_t> markers = around(s, tl);
+    if (two)
+      for (std::size_t q : around(s, fl))
+        markers.push_back(q);
+    refuse_non_finite(cine, f, markers, 0, 0, fmt::format("station {}", station),
+                      "the blood level at its lumen points", "its lumina cannot be found");
     const double level_tl = blood_level(m, s, tl), level_fl = blood_level(m, s, fl);
     if (!(level_tl > 0) || !(level_fl > 0))
       input_error("station {}, frame {}: no signal at the {} lumen point", station, f,
@@ -195,12 +215,12 @@ LuminaSeries track_lumina(const Flow4D& cine, const std::string& station, const 
     // The areas read the magnitude out to three pixels around the lumina (edge, ring, tissue
     // band): a NaN there would make an area NaN or move the tissue level, so it is refused.
     const Pixels read = grown(united(tl_region, fl_region), s, 3);
+    std::vector<std::size_t> read_pixels; // a one-slice scan: pixel p is voxel p
     for (std::size_t p = 0; p < s.count(); ++p)
-      if (read[p] && !std::isfinite(m[p]))
-        input_error("station {}, frame {} (t = {:.4g} s): the magnitude near the lumina is not a "
-                    "number (NaN or infinite); the areas would be wrong. Repair or mask that "
-                    "frame of the input",
-                    station, f, cine.frames[f].time);
+      if (read[p])
+        read_pixels.push_back(p);
+    refuse_non_finite(cine, f, read_pixels, 0, 0, fmt::format("station {}", station),
+                      "the magnitude near its lumina", "the areas would be wrong");
     const double tissue = tissue_level(united(tl_region, fl_region), m, s);
     const Pixels tl_rim = rim_of(tl_region, s), fl_rim = rim_of(fl_region, s);
     out.time.push_back(cine.frames[f].time);

@@ -445,6 +445,14 @@ int MriCommand::flow() const {
       fmt::print("{:<10} {:>14.3f} {:>14.3f} {:>12.1f}\n", s.name, mean / units::mL,
                  peak / units::mL, area * 1e6);
     }
+    std::size_t not_numbers = 0;
+    for (const NonFiniteImage& i : data.non_finite)
+      not_numbers += i.total();
+    if (not_numbers > 0)
+      fmt::print("the {} voxel value(s) that are not numbers (above) lie outside every "
+                 "landmark's lumen section: no flow, area or velocity read them (mri.json: "
+                 "non_finite)\n",
+                 not_numbers);
     fmt::print("flow.csv, area.csv, velocity.csv and mri.json in '{}'\n", output_);
   }
   return 0;

@@ -10,6 +10,7 @@
 #include "analysis/landmark_sections.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
+#include "mri/non_finite.hpp"
 #include "mri/pixel_regions.hpp"
 
 namespace tearflow::mri {
@@ -65,6 +66,19 @@ long pixel_of(const Reformat& r, const geometry::Landmark& lm, const Vec3& p) {
   return static_cast<long>(b) * r.side + a;
 }
 
+/// The voxels that the pixels `used(p)` of the plane read (those of weight > 0), once each.
+template <typename Used> std::vector<std::size_t> voxels_read(const Reformat& r, Used&& used) {
+  std::vector<std::size_t> voxels;
+  for (std::size_t p = 0; p < r.weights.size(); ++p)
+    if (r.inside[p] && used(p))
+      for (int c = 0; c < 8; ++c)
+        if (r.weights[p].weight[c] != 0.0)
+          voxels.push_back(r.weights[p].voxel[c]);
+  std::sort(voxels.begin(), voxels.end());
+  voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+  return voxels;
+}
+
 } // namespace
 
 std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Landmarks& landmarks,
@@ -113,10 +127,20 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
           if (x >= 0 && y >= 0 && x < r.side && y < r.side)
             around.push_back(mag[static_cast<std::size_t>(y) * r.side + x]);
         }
-      if (std::any_of(around.begin(), around.end(), [](double m) { return !std::isfinite(m); }))
+      if (std::any_of(around.begin(), around.end(), [](double m) { return !std::isfinite(m); })) {
+        refuse_non_finite(data, f,
+                          voxels_read(r,
+                                      [&](std::size_t p) {
+                                        const long a = static_cast<long>(p % r.side) - sa;
+                                        const long b = static_cast<long>(p / r.side) - sb;
+                                        return std::abs(a) <= 1 && std::abs(b) <= 1;
+                                      }),
+                          0, 0, fmt::format("landmark '{}'", lm.name),
+                          "its lumen point's magnitude", "its lumen cannot be found");
         input_error("landmark '{}', frame {} (t = {:.4g} s): the magnitude at its lumen point is "
-                    "not a number; the input volume's frame is damaged there",
-                    lm.name, f, fr.time);
+                    "not a number",
+                    lm.name, f, fr.time); // not reached: a sample is NaN through a voxel only
+      }
       std::nth_element(around.begin(), around.begin() + around.size() / 2, around.end());
       const double threshold = o.lumen_fraction * around[around.size() / 2];
       if (!(threshold > 0))
@@ -140,16 +164,21 @@ std::vector<PlaneSeries> measure_planes(const Flow4D& data, const geometry::Land
       if (o.track)
         seed = static_cast<long>(deepest_pixel(lumen, {r.side, r.side}));
       // A NaN in the section would make the flow NaN or, through the magnitude mask, cut a
-      // hole in the lumen: either changes the result, so it is refused, with where.
+      // hole in the lumen: either changes the result, so it is refused, naming the images
+      // (their files) and the frame. Values elsewhere in the plane change nothing.
+      const auto in_section = [&](std::size_t p) { return flow_region[p] && r.inside[p]; };
       std::size_t not_numbers = 0;
       for (std::size_t p = 0; p < npx; ++p)
-        if (flow_region[p] && r.inside[p] && !(std::isfinite(vn[p]) && std::isfinite(mag[p])))
+        if (in_section(p) && !(std::isfinite(vn[p]) && std::isfinite(mag[p])))
           ++not_numbers;
-      if (not_numbers > 0)
+      if (not_numbers > 0) {
+        refuse_non_finite(data, f, voxels_read(r, in_section), 0, 3,
+                          fmt::format("landmark '{}'", lm.name), "its lumen's section",
+                          "the flow would be wrong");
         input_error("landmark '{}', frame {} (t = {:.4g} s): {} pixel(s) of its lumen's section "
-                    "sample velocity or magnitude that is not a number (NaN or infinite); the "
-                    "flow would be wrong. Repair or mask that frame of the input",
-                    lm.name, f, fr.time, not_numbers);
+                    "are not numbers",
+                    lm.name, f, fr.time, not_numbers); // not reached (above)
+      }
       double area = 0.0, flow = 0.0, peak = -1e300;
       for (std::size_t p = 0; p < npx; ++p) {
         if (lumen[p]) {

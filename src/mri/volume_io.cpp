@@ -3,6 +3,7 @@
 #include "mri/image_io.hpp"
 
 #include "core/image_bytes.hpp"
+#include "mri/non_finite.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +20,6 @@
 #include <itkMetaImageIO.h>
 #include <itkNiftiImageIO.h>
 
-#include <spdlog/spdlog.h>
 #include <zlib.h>
 
 #include "core/error.hpp"
@@ -133,6 +133,12 @@ Flow4D read_volumes(const fs::path& dir, const ReadOptions& options) {
       input_error("'{}': cannot be read as a 4D image ({})", file.string(), e.GetDescription());
     }
     Volume::Pointer img = reader->GetOutput();
+    // The NIfTI library read NaN and infinite values as 0: put them back, so that they are
+    // counted and refused where measured (non_finite.hpp) instead of read as no velocity.
+    if (ext == ".nii" || ext == ".nii.gz")
+      restore_nifti_non_finite(file, img->GetBufferPointer(),
+                               img->GetLargestPossibleRegion().GetNumberOfPixels());
+    out.sources[static_cast<std::size_t>(s)] = fmt::format("'{}'", file.string());
     if (s == 0) {
       first = file;
     } else {
@@ -173,27 +179,10 @@ Flow4D read_volumes(const fs::path& dir, const ReadOptions& options) {
     out.frames.push_back(std::move(fr));
   }
   out.frame_window = a->GetSpacing()[3];
-  // Values that are not numbers: said with their count and frames here; a landmark whose
-  // lumen holds one is refused when the planes are measured (plane_flow.cpp).
-  for (int s = 0; s < 4; ++s) {
-    std::size_t count = 0, first = 0, last = 0;
-    for (std::size_t f = 0; f < out.frames.size(); ++f) {
-      const std::vector<float>& v =
-          s == 0 ? out.frames[f].magnitude : out.frames[f].velocity[s - 1];
-      const auto bad = static_cast<std::size_t>(
-          std::count_if(v.begin(), v.end(), [](float x) { return !std::isfinite(x); }));
-      if (bad > 0) {
-        first = count == 0 ? f : first;
-        last = f;
-      }
-      count += bad;
-    }
-    if (count > 0)
-      spdlog::warn("'{}': {} voxel value(s) of {} are not numbers (NaN or infinite), in frames "
-                   "{} to {}; a landmark whose lumen section meets one is refused",
-                   find_component(dir, kNames[s], nullptr).string(), count, kNames[s], first, last);
-  }
   out.check(dir.string());
+  // Values that are not numbers: counted here, reported by the commands, refused where a
+  // measurement reads one (non_finite.hpp).
+  out.non_finite = survey_non_finite(out, fmt::format("'{}'", dir.string()));
   return out;
 }
 

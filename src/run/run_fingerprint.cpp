@@ -115,7 +115,8 @@ void check_size(const io::Checkpoint& checkpoint, Index num_nodes, int block,
 
 void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now, Index num_nodes,
                    int block, int last_step, const std::filesystem::path& file) {
-  check_size(checkpoint, num_nodes, block, file);
+  // What changed first: another case's run in the folder (another mesh) is said as such, with
+  // every part that differs, not as a node count that does not match.
   if (const std::string changed = changes(checkpoint.fingerprint, now, {}); !changed.empty()) {
     // Only the discretization in time changed: the state itself can start a run with it.
     const bool step_only = changes(checkpoint.fingerprint, now, kDiscretization).empty();
@@ -128,6 +129,7 @@ void check_restart(const io::Checkpoint& checkpoint, const io::Fingerprint& now,
                           : "run the changed case from the start (without --restart), into "
                             "another output folder to keep this one");
   }
+  check_size(checkpoint, num_nodes, block, file);
   if (checkpoint.step > last_step)
     input_error("checkpoint '{}' is at step {} (t = {:.6g} s), past the case's last step {}: "
                 "nothing to continue (raise the case's time.steps, end or cycles)",

@@ -17,11 +17,11 @@
 #include "geometry/sections.hpp"
 #include "io/case_edit.hpp"
 #include "io/case_yaml.hpp"
+#include "io/output_lock.hpp"
 #include "io/vtu_series.hpp"
 #include "mesh/readers.hpp"
 #include "rom/calibration.hpp"
 #include "study/child_process.hpp"
-#include "study/output_lock.hpp"
 
 namespace tearflow::study {
 
@@ -399,7 +399,14 @@ void StudyRunner::progress(const std::vector<Stage>& all, std::size_t index) con
 
 int StudyRunner::run() {
   started_ = now();
-  const OutputLock lock(spec_.output); // one study at a time in this folder
+  // One study at a time in this folder (io/output_lock.hpp).
+  const io::OutputLock lock(spec_.output, {".study.lock", "tearflow study", "the study's output",
+                                           fmt::format("tearflow study {}", spec_.file.string()),
+                                           "give this study another `output`"});
+  if (!lock.taken_over().empty())
+    fmt::print("study '{}': its output's lock was left by a study that ended without releasing "
+               "it ({}): killed? Taken over\n",
+               spec_.name, lock.taken_over());
   for (const Variant& v : spec_.variants) {
     if (!chosen(v))
       continue;
