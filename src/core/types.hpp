@@ -11,6 +11,15 @@ using Mat3 = std::array<Vec3, 3>;
 using Tet = std::array<Index, 4>;
 using Tri = std::array<Index, 3>;
 
+/// The face of `t` opposite its node `skip`, its nodes in t's order.
+inline Tri face_opposite(const Tet& t, int skip) {
+  Tri f{};
+  for (int i = 0, j = 0; i < 4; ++i)
+    if (i != skip)
+      f[j++] = t[i];
+  return f;
+}
+
 inline Vec3 operator+(const Vec3& a, const Vec3& b) {
   return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
 }

@@ -59,10 +59,7 @@ RegionBoundary region_boundary(const mesh::Mesh& m, int region,
       continue;
     const Tet& t = m.tets[e];
     for (int skip = 0; skip < 4; ++skip) {
-      Tri f{};
-      for (int i = 0, j = 0; i < 4; ++i)
-        if (i != skip)
-          f[j++] = t[i];
+      Tri f = face_opposite(t, skip);
       const Vec3 &a = m.points[f[0]], &b = m.points[f[1]], &c = m.points[f[2]];
       if (dot(cross(b - a, c - a), m.points[t[skip]] - a) > 0)
         std::swap(f[1], f[2]); // outward: the opposite node behind

@@ -33,10 +33,7 @@ std::vector<TetFace> sorted_tet_faces(const mesh::Mesh& m, const std::vector<cha
       continue;
     const Tet& k = m.tets[t];
     for (int skip = 0; skip < 4; ++skip) {
-      Tri f{};
-      for (int i = 0, j = 0; i < 4; ++i)
-        if (i != skip)
-          f[j++] = k[i];
+      Tri f = face_opposite(k, skip);
       std::sort(f.begin(), f.end());
       faces.push_back({f, static_cast<Index>(t)});
     }

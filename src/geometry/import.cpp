@@ -70,10 +70,7 @@ void check_fluid_boundary_named(const mesh::Mesh& m) {
   for (std::size_t t = 0; t < m.tets.size(); ++t)
     if (m.tet_region[t] == fluid)
       for (int skip = 0; skip < 4; ++skip) {
-        Tri f{};
-        for (int i = 0, j = 0; i < 4; ++i)
-          if (i != skip)
-            f[j++] = m.tets[t][i];
+        Tri f = face_opposite(m.tets[t], skip);
         std::sort(f.begin(), f.end());
         ++count[f];
       }

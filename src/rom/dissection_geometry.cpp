@@ -372,10 +372,7 @@ DissectionGeometry measure_dissection(const mesh::Mesh& mesh, const geometry::La
     if (mesh.tet_region[t] == fluid) {
       const Tet& k = mesh.tets[t];
       for (int skip = 0; skip < 4; ++skip) {
-        std::array<Index, 3> f;
-        for (int i = 0, j = 0; i < 4; ++i)
-          if (i != skip)
-            f[j++] = k[i];
+        Tri f = face_opposite(k, skip);
         std::sort(f.begin(), f.end());
         fluid_faces.insert(f);
       }
