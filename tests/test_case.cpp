@@ -257,6 +257,9 @@ INSTANTIATE_TEST_SUITE_P(LoadCase, BadCaseFile, testing::Values(
   BadCase{"bad_flow_magnitude.yaml", 9, "boundary_conditions[0].flow",
           "a peak of 300 m^3/s (3e+05 L/s) is no blood flow; the values are probably in mL/s: "
           "add `units: mL/s`"},
+  BadCase{"bad_flow_magnitude_units.yaml", 10, "boundary_conditions[0].flow",
+          "a peak of 0.3 m^3/s (300 L/s) is no blood flow; check the values against the units "
+          "given"},
   BadCase{"bad_malformed.yaml", 4, "", "malformed YAML"},
   BadCase{"bad_unknown_key.yaml", 8, "fluid.viscocity",
           "unknown key 'viscocity' (did you mean 'viscosity'?); allowed keys in fluid: density, "

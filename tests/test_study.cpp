@@ -57,6 +57,28 @@ void expect_plain_restart(const std::string& output) {
         << output.substr(at, 120);
 }
 
+/// Starts `tearflow study file` in its own process group, logging to `log`; once `marker`
+/// shows in the log (or after `minutes`) kills the group, then fails if the marker never came.
+/// Killing first: a failed wait must not leave the study running beside the next test.
+void interrupt_study_at(const fs::path& dir, const fs::path& file, const std::string& marker,
+                        int minutes) {
+  const fs::path log = dir / "first.log";
+  const std::string start =
+      fmt::format("setsid sh -c 'echo $$ > {}; exec {} study {}' > {} 2>&1 &",
+                  (dir / "pid").string(), TEARFLOW_BINARY, file.string(), log.string());
+  ASSERT_EQ(std::system(start.c_str()), 0);
+  bool reached = false;
+  for (int i = 0; i < 120 * minutes && !reached; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    reached = read_text(log).find(marker) != std::string::npos;
+  }
+  const pid_t group = std::stoi(read_text(dir / "pid"));
+  ASSERT_EQ(kill(-group, SIGKILL), 0);
+  for (int i = 0; i < 100 && kill(-group, 0) == 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(reached) << read_text(log);
+}
+
 TEST(Study, BadStudyFileIsAClearError) {
   const fs::path dir = testing::fresh_dir("study-bad");
   const fs::path file = write_study(dir);
@@ -242,21 +264,7 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
   // and end where the uninterrupted study ended.
   const fs::path b = testing::fresh_dir("study-b");
   const fs::path study_b = write_study(b);
-  const fs::path log = b / "first.log";
-  const std::string start =
-      fmt::format("setsid sh -c 'echo $$ > {}; exec {} study {}' > {} 2>&1 &", (b / "pid").string(),
-                  TEARFLOW_BINARY, study_b.string(), log.string());
-  ASSERT_EQ(std::system(start.c_str()), 0);
-  bool reached = false;
-  for (int i = 0; i < 1800 && !reached; ++i) { // at most 15 minutes
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    reached = read_text(log).find("[OR run] step    12/") != std::string::npos;
-  }
-  ASSERT_TRUE(reached) << read_text(log);
-  const pid_t group = std::stoi(read_text(b / "pid"));
-  ASSERT_EQ(kill(-group, SIGKILL), 0);
-  for (int i = 0; i < 100 && kill(-group, 0) == 0; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_NO_FATAL_FAILURE(interrupt_study_at(b, study_b, "[OR run] step    12/", 15));
   EXPECT_FALSE(fs::exists(b / "results" / "OR" / "run" / "analysis"));
 
   r = testing::run_tearflow("study " + study_b.string());
@@ -284,30 +292,6 @@ TEST(Study, RunsEveryStageAndResumesAnInterruptedSimulation) {
 } // namespace tearflow
 
 namespace tearflow {
-namespace {
-
-/// Starts `tearflow study file` in its own process group, logging to `log`; returns once
-/// `marker` shows in the log (or fails the test after `minutes`), then kills the group.
-void interrupt_study_at(const fs::path& dir, const fs::path& file, const std::string& marker,
-                        int minutes) {
-  const fs::path log = dir / "first.log";
-  const std::string start =
-      fmt::format("setsid sh -c 'echo $$ > {}; exec {} study {}' > {} 2>&1 &",
-                  (dir / "pid").string(), TEARFLOW_BINARY, file.string(), log.string());
-  ASSERT_EQ(std::system(start.c_str()), 0);
-  bool reached = false;
-  for (int i = 0; i < 120 * minutes && !reached; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    reached = read_text(log).find(marker) != std::string::npos;
-  }
-  ASSERT_TRUE(reached) << read_text(log);
-  const pid_t group = std::stoi(read_text(dir / "pid"));
-  ASSERT_EQ(kill(-group, SIGKILL), 0);
-  for (int i = 0; i < 100 && kill(-group, 0) == 0; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-}
-
-} // namespace
 
 // The compliant CI study (tests/data/study/study-fsi.yaml: OR at 8 mm with its wall, FSI, the
 // outlets corrected at the run's cycle ends, at most two cycles of 50 steps): the summary
@@ -372,7 +356,7 @@ TEST(Study, CompliantStudyTunesInItsRunAndResumes) {
 
   const fs::path b = testing::fresh_dir("study-fsi-b");
   const fs::path study_b = write_study(b, "study-fsi");
-  interrupt_study_at(b, study_b, "[OR run] step    60/", 15);
+  ASSERT_NO_FATAL_FAILURE(interrupt_study_at(b, study_b, "[OR run] step    60/", 15));
   r = testing::run_tearflow("study " + study_b.string());
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output.find("[OR geometry]"), std::string::npos) << "geometry was redone";

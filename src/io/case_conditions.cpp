@@ -125,12 +125,15 @@ bc::Inflow read_inflow(const ConditionKeys& k) {
   double peak = std::abs(in.flow(0.0));
   for (int i = 1; !in.flow.is_constant() && i < 1000; ++i)
     peak = std::max(peak, std::abs(in.flow(in.flow.period() * i / 1000.0)));
+  // Units may be given beside `flow` or inside its mapping: advice to add them where they
+  // already are would send the user after the wrong fix.
+  const bool units_given = v.has("units") || (flow.is_map() && flow.has("units"));
   if (peak > 5e-3)
     flow.fail(fmt::format("a peak of {:.4g} m^3/s ({:.4g} L/s) is no blood flow; {}", peak,
                           peak * 1e3,
-                          v.has("units") ? "check the values against the units given"
-                                         : "the values are probably in mL/s: add `units: mL/s` "
-                                           "to the boundary condition"));
+                          units_given ? "check the values against the units given"
+                                      : "the values are probably in mL/s: add `units: mL/s` "
+                                        "to the boundary condition"));
   if (auto p = v.get("profile")) {
     const std::string profile = p->choice({"parabolic", "plug", "womersley"});
     in.profile = profile == "plug"        ? bc::ProfileShape::Plug
