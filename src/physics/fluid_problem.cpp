@@ -397,6 +397,47 @@ void FluidProblem::jacobian(Vec U, Mat J) {
                        1.0, nullptr, nullptr));
 }
 
+void FluidProblem::attach_preconditioner(KSP ksp) {
+  if (uses_schur_matrix(ksp))
+    use_schur_matrix(ksp, schur_preconditioner());
+}
+
+Mat FluidProblem::schur_preconditioner() {
+  if (!schur_)
+    schur_ = std::make_unique<PressureSchur>(dmesh_);
+  return schur_->matrix();
+}
+
+void FluidProblem::assemble_schur_preconditioner() {
+  if (!schur_)
+    return;
+  const double c_u = scheme_.c_u(), c_a = scheme_.c_a(dt_);
+  // The open faces (pressure_schur.hpp): the traction outlets, and with rigid walls every
+  // face of the fluid, of which the triangles with a free velocity count (walls and inflows
+  // are prescribed). In FSI the interface's velocity is the wall's, held by its inertia: only
+  // the outlets are open there.
+  std::vector<unsigned char> open(dmesh_.faces().size(), layout_.region < 0);
+  for (const OutletData& o : outlets_)
+    open[o.face_index] = 1;
+  std::vector<PressureSchur::NodeTerm> open_terms;
+  for (size_t i = 0; i < open.size(); ++i) {
+    if (!open[i] || !fluid_face_[i])
+      continue;
+    for (const Tri& t : dmesh_.faces()[i].triangles) {
+      double area;
+      Vec3 n;
+      bc::triangle_area_normal(x_[t[0]], x_[t[1]], x_[t[2]], area, n);
+      const double term = schur_outlet_term(area, fluid_.density, c_u, c_a);
+      if (dirichlet_[t[0]] == all_velocity && dirichlet_[t[1]] == all_velocity &&
+          dirichlet_[t[2]] == all_velocity)
+        continue; // a wall's or an inflow's
+      for (Index l : t)
+        open_terms.push_back({l, term});
+    }
+  }
+  schur_->assemble(elements_, geometry_, stab_, fluid_.density, c_u, c_a, open_terms);
+}
+
 void FluidProblem::set_mesh_sensitivity(MeshSensitivity m) {
   sensitivity_ = std::move(m);
   interface_mask_.assign(geometry_.size(), 0);

@@ -14,6 +14,7 @@
 // region, move_mesh puts it on the current (ALE) configuration with its mesh velocity, and
 // add_residual / add_jacobian add into the caller's vector and matrix.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "bc/fluid_conditions.hpp"
@@ -23,6 +24,7 @@
 #include "physics/generalized_alpha.hpp"
 #include "physics/navier_stokes_kernel.hpp"
 #include "physics/newton_spec.hpp"
+#include "physics/pressure_schur.hpp"
 
 namespace tearflow::physics {
 
@@ -69,6 +71,13 @@ public:
   ResidualFields residual_fields() const { return {P_, -1, peak_inflow()}; }
   /// The largest |Q| of the inflows' waveforms over a period [m^3/s]; 0 without inflow.
   double peak_inflow() const;
+  /// Gives the field split of ksp the pressure Schur complement's matrix
+  /// (pressure_schur.hpp) where its options ask for it (schur_precondition user).
+  void attach_preconditioner(KSP ksp);
+  /// Assembles that matrix, if attached, for the preconditioner being built.
+  void assemble_schur_preconditioner();
+  /// The matrix, created on first use (scalar, one row per owned node).
+  Mat schur_preconditioner();
   /// Global rows of the owned prescribed velocities.
   const std::vector<PetscInt>& dirichlet_rows() const { return dirichlet_rows_; }
   /// Puts the fluid on the configuration x (per local node, [m]) moving with velocity w
@@ -176,6 +185,7 @@ private:
   fem::DofMap flux_dofs_;
   fem::OwnedVec flux_loc_, flux_global_;
   std::vector<SymTensor> nodal_flux_;
+  std::unique_ptr<PressureSchur> schur_; ///< once a field split uses it
 };
 
 } // namespace tearflow::physics

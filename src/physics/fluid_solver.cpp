@@ -17,7 +17,7 @@ fem::OptionList FluidProblem::default_solver_options() {
                              {"-fluid_pc_fieldsplit_1_fields", "3"},
                              {"-fluid_pc_fieldsplit_type", "schur"},
                              {"-fluid_pc_fieldsplit_schur_fact_type", "full"},
-                             {"-fluid_pc_fieldsplit_schur_precondition", "selfp"},
+                             {"-fluid_pc_fieldsplit_schur_precondition", "user"},
                              {"-fluid_fieldsplit_0_ksp_type", "preonly"},
                              {"-fluid_fieldsplit_0_pc_type", "bjacobi"},
                              {"-fluid_fieldsplit_1_ksp_type", "preonly"},
@@ -215,9 +215,11 @@ PetscErrorCode NewtonStepper<Problem>::form_jacobian(SNES snes, Vec U, Mat A, Ma
       PetscInt last_iterations = 0;
       TF_PETSC(SNESGetKSP(snes, &ksp));
       TF_PETSC(KSPGetIterationNumber(ksp, &last_iterations));
-      TF_PETSC(SNESSetLagPreconditioner(
-          snes, self->lag_.due(static_cast<int>(last_iterations)) ? -2 : -1));
+      const bool build = self->lag_.due(static_cast<int>(last_iterations));
+      TF_PETSC(SNESSetLagPreconditioner(snes, build ? -2 : -1));
       self->problem_.jacobian(U, P);
+      if (build)
+        self->problem_.assemble_schur_preconditioner();
     }
     // The operator, where it is not P: the shell adding the coupled outlets, or PETSc's
     // finite-difference one (-snes_mf_operator), which takes its base point here.

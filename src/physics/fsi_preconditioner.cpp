@@ -60,7 +60,7 @@ fem::OptionList FsiPreconditioner::default_options() {
   fem::OptionList options = {{"-fsi_pc_type", "fieldsplit"},
                              {"-fsi_pc_fieldsplit_type", "schur"},
                              {"-fsi_pc_fieldsplit_schur_fact_type", "lower"},
-                             {"-fsi_pc_fieldsplit_schur_precondition", "selfp"},
+                             {"-fsi_pc_fieldsplit_schur_precondition", "user"},
                              {"-fsi_fieldsplit_motion_ksp_type", "preonly"},
                              {"-fsi_fieldsplit_motion_pc_type", "fieldsplit"},
                              {"-fsi_fieldsplit_motion_pc_fieldsplit_type", "multiplicative"},
@@ -88,7 +88,7 @@ fem::OptionList FsiPreconditioner::wall_options(double stiffness_number) {
           {wall + "mat_mumps_cntl_7", "1e-3"}};
 }
 
-void FsiPreconditioner::attach(KSP ksp) {
+bool FsiPreconditioner::attach(KSP ksp) {
   PC pc;
   TF_PETSC(KSPGetPC(ksp, &pc));
   PetscBool field_split = PETSC_FALSE, by_components = PETSC_FALSE;
@@ -97,10 +97,11 @@ void FsiPreconditioner::attach(KSP ksp) {
   TF_PETSC(KSPGetOptionsPrefix(ksp, &prefix));
   TF_PETSC(PetscOptionsHasName(nullptr, prefix, "-pc_fieldsplit_0_fields", &by_components));
   if (!field_split || by_components)
-    return;
+    return false;
   TF_PETSC(PCFieldSplitSetIS(pc, "motion", motion_));
   TF_PETSC(PCFieldSplitSetIS(pc, "pressure", pressure_));
   TF_PETSC(KSPSetPreSolve(ksp, name_inner_split, this));
+  return true;
 }
 
 // PETSc creates the motion block's KSP when the outer split is set up, inside the first

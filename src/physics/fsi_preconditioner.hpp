@@ -5,7 +5,8 @@
 //   J = [ A   B_f^T ]   A: the "motion" block, every velocity and the wall's pressure
 //       [ B_f  C_f  ]   B_f, C_f: the fluid pressure's rows ("pressure")
 //
-//   P^{-1} = lower Schur factorization, S ~ C_f - B_f diag(A)^{-1} B_f^T (selfp), and A
+//   P^{-1} = lower Schur factorization, S preconditioned by the fluid's pressure Laplacian
+//   (pressure_schur.hpp; PETSc's selfp C_f - B_f diag(A)^{-1} B_f^T before), and A
 //   applied by one block Gauss-Seidel sweep over
 //     "wall":  velocity and pressure of every wall node (interface included), by ILU(1)
 //              on each rank's part or directly by MUMPS (below), and
@@ -72,8 +73,8 @@ public:
 
   /// Names the outer split's index sets on the KSP's preconditioner, if it is a field split
   /// the user did not define by components, and arranges for the inner split to be named
-  /// when PETSc creates it. The object must outlive the KSP.
-  void attach(KSP ksp);
+  /// when PETSc creates it; returns whether it did. The object must outlive the KSP.
+  bool attach(KSP ksp);
 
 private:
   static PetscErrorCode name_inner_split(KSP ksp, Vec, Vec, void* ctx);

@@ -79,7 +79,12 @@ public:
   static fem::OptionList default_solver_options();
   /// Names the default preconditioner's blocks on the Newton solver's KSP
   /// (fsi_preconditioner.hpp).
-  void attach_preconditioner(KSP ksp) { preconditioner_->attach(ksp); }
+  void attach_preconditioner(KSP ksp) {
+    if (preconditioner_->attach(ksp) && uses_schur_matrix(ksp))
+      use_schur_matrix(ksp, fluid_.schur_preconditioner());
+  }
+  /// The fluid pressure's Schur matrix (pressure_schur.hpp), where the split uses one.
+  void assemble_schur_preconditioner() { fluid_.assemble_schur_preconditioner(); }
 
   /// Sets the displacement from a full vector in the input mesh's node order (block 5 per
   /// node, as a checkpoint holds it) and puts the fluid on that configuration.

@@ -129,8 +129,9 @@ struct FluidElementState {
 };
 
 struct Stabilization {
-  double tau_m = 0.0; ///< [s]
-  double nu_c = 0.0;  ///< [m^2/s]
+  double tau_m = 0.0;     ///< [s]
+  double nu_c = 0.0;      ///< [m^2/s]
+  double advection = 0.0; ///< sqrt(u.G u) of the lagged velocity [1/s]
 };
 
 using ElementVector = std::array<double, 16>;
@@ -168,6 +169,7 @@ inline Stabilization stabilization(const fem::TetGeometry& geo, const Vec3& velo
   Stabilization s;
   s.tau_m = 1.0 / std::sqrt(4.0 / (T * T) + steady);
   s.nu_c = spec.grad_div * std::sqrt(steady) / (G[0][0] + G[1][1] + G[2][2]);
+  s.advection = std::sqrt(uGu);
   return s;
 }
 
