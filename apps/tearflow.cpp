@@ -92,18 +92,20 @@ int run_command(const RunArgs& args, const std::string& cli_petsc) {
     fmt::print("tearflow run '{}': {} steps of {} s, output in '{}'\n", c.name, c.time.steps,
                c.time.step, c.output.directory.string());
   if (!start_case.empty() && start_from.empty())
-    input_error("--start-case names the case of --start-from's run: give --start-from too");
+    collective_input_error(
+        "--start-case names the case of --start-from's run: give --start-from too");
   if (!start_from.empty()) {
     if (restart || !targets_file.empty())
-      input_error("--start-from starts a new run: not with --restart or --targets");
+      collective_input_error("--start-from starts a new run: not with --restart or --targets");
     if (c.solid && c.boundary_conditions.empty())
-      input_error("--start-from is for flow and FSI cases, not a solid-only case");
+      collective_input_error("--start-from is for flow and FSI cases, not a solid-only case");
     // The new run's files would replace the run the state comes from.
     if (std::filesystem::weakly_canonical(std::filesystem::absolute(start_from)).parent_path() ==
         std::filesystem::weakly_canonical(c.output.directory))
-      input_error("--start-from '{}' lies in the output folder '{}': the new run would replace "
-                  "that run's files; give another folder with -o",
-                  start_from, c.output.directory.string());
+      collective_input_error(
+          "--start-from '{}' lies in the output folder '{}': the new run would replace "
+          "that run's files; give another folder with -o",
+          start_from, c.output.directory.string());
   }
   // One run per output folder, held until this command returns (run/run_lock.hpp): before
   // anything is written there (the built-in case writes its model into it).
@@ -111,7 +113,7 @@ int run_command(const RunArgs& args, const std::string& cli_petsc) {
       c.output.directory, fmt::format("{} (case '{}')", command_line, c.name), PETSC_COMM_WORLD);
   if (!targets_file.empty()) { // outlets corrected at cycle ends (tuning/corrected_run.hpp)
     if (case_file.empty() || (c.solid && c.boundary_conditions.empty()))
-      input_error("--targets needs a flow case with RCR outlets (docs/tuning.md)");
+      collective_input_error("--targets needs a flow case with RCR outlets (docs/tuning.md)");
     const tuning::CorrectedRun r =
         tuning::run_corrected(c, case_file, tuning::load_targets(targets_file), targets_file,
                               {restart, {}, {}, !quiet, true, {}});

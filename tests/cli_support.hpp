@@ -2,10 +2,12 @@
 // Running the `tearflow` program (and other programs) from tests: its exit code and output,
 // and fresh output directories under the system's temporary folder.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
@@ -49,5 +51,21 @@ inline nlohmann::json read_json(const std::filesystem::path& file) {
 
 inline const std::filesystem::path test_data =
     std::filesystem::path(TEARFLOW_SOURCE_DIR) / "tests/data";
+
+/// A small tmpfs mounted at `dir` while alive (the tests run as root on this machine; where
+/// they cannot mount, `mounted` is false and the test is skipped).
+struct SmallFileSystem {
+  std::string dir;
+  bool mounted = false;
+  SmallFileSystem(const std::filesystem::path& at, const std::string& options) : dir(at.string()) {
+    std::filesystem::create_directories(at);
+    mounted = std::system(
+                  ("mount -t tmpfs -o " + options + " tmpfs " + dir + " 2>/dev/null").c_str()) == 0;
+  }
+  ~SmallFileSystem() {
+    if (mounted && std::system(("umount " + dir).c_str()) != 0)
+      ADD_FAILURE() << "could not unmount " << dir;
+  }
+};
 
 } // namespace tearflow::testing

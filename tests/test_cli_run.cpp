@@ -20,6 +20,7 @@ namespace {
 
 using tearflow::testing::fresh_dir;
 using tearflow::testing::Result;
+using tearflow::testing::SmallFileSystem;
 const fs::path data = tearflow::testing::test_data;
 
 Result run(const std::string& args, const std::string& launcher = "") {
@@ -249,22 +250,6 @@ TEST(CliRun, StartFromAnotherMeshInterpolatesTheState) {
   EXPECT_NE(other.code, 0);
   EXPECT_THAT(other.output, testing::HasSubstr("differs from this case in more than the mesh"));
 }
-
-/// A small tmpfs mounted at `dir` while alive (the tests run as root on this machine; where
-/// they cannot mount, `mounted` is false and the test is skipped).
-struct SmallFileSystem {
-  std::string dir;
-  bool mounted = false;
-  SmallFileSystem(const fs::path& at, const std::string& options) : dir(at.string()) {
-    fs::create_directories(at);
-    mounted = std::system(
-                  ("mount -t tmpfs -o " + options + " tmpfs " + dir + " 2>/dev/null").c_str()) == 0;
-  }
-  ~SmallFileSystem() {
-    if (mounted && std::system(("umount " + dir).c_str()) != 0)
-      ADD_FAILURE() << "could not unmount " << dir;
-  }
-};
 
 TEST(CliRun, AFullDiskStopsTheRunWithItsFramesListedAndItsCheckpointGood) {
   // The probe's full disk: a 600 kB file system (tmpfs, where this machine lets the tests

@@ -22,6 +22,7 @@ namespace {
 
 using tearflow::testing::fresh_dir;
 using tearflow::testing::Result;
+using tearflow::testing::SmallFileSystem;
 const fs::path data = tearflow::testing::test_data / "tuning";
 
 std::string read(const fs::path& file) {
@@ -149,6 +150,68 @@ TEST(CliRun, BadCaseOnTwoRanksIsReportedOnceWithoutAbort) {
   EXPECT_NE(option.code, 0) << option.output;
   EXPECT_EQ(count_matches(option.output, "not expected: --no-such-option"), 1) << option.output;
   EXPECT_THAT(option.output, testing::Not(HasSubstr("MPI_ABORT")));
+}
+
+// Issue 62, part 3: the outside probe's input errors on 2 ranks, each printed once by one
+// rank, exit 2, without Open MPI's MPI_ABORT banner or ORTE_ERROR_LOG line. Each rank reads
+// the mesh and the checkpoint itself; they agree before going on (fem/alike_on_every_rank.hpp).
+TEST(CliRun, BadInputOnTwoRanksIsPrintedOnceWithoutAbort) {
+  const fs::path dir = fresh_dir("two-rank-errors");
+  fs::create_directories(dir);
+  const std::string pipe = "pipe: {radius: 0.005, length: 0.02, element_size: 0.003}";
+  auto write_case = [&](const std::string& name, const std::string& mesh,
+                        const std::string& outlet) {
+    const fs::path file = dir / (name + ".yaml");
+    std::ofstream(file) << "name: " << name << "\nmesh:\n  " << mesh
+                        << "\nfluid: {density: 1060, viscosity: 0.004}\n"
+                           "time: {step: 0.01, steps: 2}\n"
+                           "boundary_conditions:\n"
+                           "  - {face: wall, type: no_slip}\n"
+                           "  - {face: inlet, type: inflow, flow: 1.0e-5}\n"
+                           "  - {face: "
+                        << outlet
+                        << ", type: pressure, pressure: 0}\n"
+                           "output: {every: 1, checkpoint_every: 1}\n";
+    return file.string();
+  };
+  const std::string good = write_case("good", pipe, "outlet");
+  // A .msh cut short inside its nodes.
+  std::ofstream(dir / "cut.msh")
+      << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0";
+  const std::string two = "mpirun -n 2";
+  auto expect_once = [&](const Result& r, const std::string& message, const std::string& probe) {
+    EXPECT_EQ(r.code, 2) << probe << "\n" << r.output;
+    EXPECT_EQ(count_matches(r.output, "error: "), 1) << probe << "\n" << r.output;
+    EXPECT_THAT(r.output, HasSubstr(message)) << probe;
+    EXPECT_THAT(r.output, Not(HasSubstr("MPI_ABORT"))) << probe;
+    EXPECT_THAT(r.output, Not(HasSubstr("ORTE_ERROR_LOG"))) << probe;
+  };
+  const std::string out = " -q -o " + (dir / "run").string();
+  expect_once(
+      tearflow::testing::run_tearflow("run " + write_case("face", pipe, "outlet_2") + out, two),
+      "has no face 'outlet_2'", "missing face");
+  expect_once(
+      tearflow::testing::run_tearflow(
+          "run " + write_case("cut", "file: " + (dir / "cut.msh").string(), "outlet") + out, two),
+      "cut.msh", "truncated .msh");
+  expect_once(tearflow::testing::run_tearflow(
+                  "run " + good + " --restart -q -o " + (dir / "empty").string(), two),
+              "no checkpoint", "no checkpoint");
+  ASSERT_EQ(tearflow::testing::run_tearflow("run " + good + out, two).code, 0);
+  {
+    std::fstream f(dir / "run" / "checkpoint.bin", std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(200);
+    f.put('\x5a'); // a byte changed: the checksum no longer matches
+  }
+  expect_once(tearflow::testing::run_tearflow("run " + good + " --restart" + out, two),
+              "is damaged", "damaged checkpoint");
+  expect_once(tearflow::testing::run_tearflow("run " + good + " --start-case " + good + out, two),
+              "--start-case names the case of --start-from's run", "argument without its pair");
+  const SmallFileSystem read_only(dir / "read-only", "size=100k,ro");
+  if (read_only.mounted)
+    expect_once(tearflow::testing::run_tearflow(
+                    "run " + good + " -q -o " + (dir / "read-only" / "run").string(), two),
+                "Read-only file system", "read-only folder");
 }
 
 TEST(CliRun, AOneProcessCommandOnTwoRanksSaysSoAndFailsOnceWithoutAbort) {

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/names.hpp"
 #include "core/units.hpp"
+#include "fem/alike_on_every_rank.hpp"
 #include "fem/petsc.hpp"
 #include "mesh/merge.hpp"
 #include "mesh/orient_faces.hpp"
@@ -46,10 +47,11 @@ std::unique_ptr<FlowStepper> make_stepper(physics::FsiProblem& p, const physics:
   return std::make_unique<StepperOf<physics::FsiProblem>>(p, n);
 }
 
-mesh::Mesh load_mesh(const io::Case& c) {
-  mesh::Mesh m = c.mesh.generator ? c.mesh.generator(c)
-                 : c.mesh.pipe    ? mesh::make_pipe(*c.mesh.pipe)
-                                  : mesh::read_mesh(c.mesh.file, c.mesh.length_scale);
+namespace {
+
+/// The case's mesh made ready: the wall's file merged, the flow's region taken, faces oriented
+/// and checked against the case's conditions. No collective call (load_mesh).
+mesh::Mesh prepare_mesh(const io::Case& c, mesh::Mesh m) {
   if (!c.mesh.wall_file.empty())
     m = mesh::merge_fluid_and_wall(m, mesh::read_mesh(c.mesh.wall_file, c.mesh.length_scale));
   if (io::is_fsi(c)) { // both regions; the fluid's and the wall's faces
@@ -77,6 +79,22 @@ mesh::Mesh load_mesh(const io::Case& c) {
   mesh::orient_faces_outward(m);
   io::check_case_against_mesh(c, m);
   return m;
+}
+
+} // namespace
+
+mesh::Mesh load_mesh(const io::Case& c) {
+  // Every rank reads and checks the mesh itself; a bad one stops all ranks with one message
+  // (fem/alike_on_every_rank.hpp). The built-in model is built by rank 0 behind a barrier
+  // (default_case.cpp), so its generator runs outside.
+  if (c.mesh.generator)
+    return fem::alike_on_every_rank(PETSC_COMM_WORLD, [&, m = c.mesh.generator(c)]() mutable {
+      return prepare_mesh(c, std::move(m));
+    });
+  return fem::alike_on_every_rank(PETSC_COMM_WORLD, [&] {
+    return prepare_mesh(c, c.mesh.pipe ? mesh::make_pipe(*c.mesh.pipe)
+                                       : mesh::read_mesh(c.mesh.file, c.mesh.length_scale));
+  });
 }
 
 bc::FluidConditions make_conditions(const io::Case& c, const mesh::Mesh& m) {

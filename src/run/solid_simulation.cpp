@@ -1,5 +1,6 @@
 #include "run/solid_simulation.hpp"
 
+#include "fem/alike_on_every_rank.hpp"
 #include "mesh/orient_faces.hpp"
 #include "mesh/pipe_generator.hpp"
 #include "mesh/readers.hpp"
@@ -14,7 +15,8 @@ mesh::Mesh load_solid_mesh(const io::Case& c) {
 }
 
 SolidSimulation::SolidSimulation(io::Case c, MPI_Comm comm)
-    : SolidSimulation(c, load_solid_mesh(c), comm) {}
+    : SolidSimulation(c, fem::alike_on_every_rank(comm, [&] { return load_solid_mesh(c); }), comm) {
+}
 
 SolidSimulation::SolidSimulation(io::Case c, mesh::Mesh m, MPI_Comm comm)
     : case_(std::move(c)), mesh_(std::move(m)),

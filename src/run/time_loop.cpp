@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/file_layout.hpp"
+#include "fem/alike_on_every_rank.hpp"
 #include "fem/petsc.hpp"
 #include "io/durable_file.hpp"
 #include "io/vtu_series.hpp"
@@ -20,7 +21,8 @@ namespace tearflow::run {
 RunSummary run_loop(Model& model, const RunOptions& options) {
   const io::Case& c = model.config();
   const mesh::Mesh& mesh = model.mesh();
-  const bool root = fem::mpi_rank(model.distributed_mesh().comm()) == 0;
+  const MPI_Comm comm = model.distributed_mesh().comm();
+  const bool root = fem::mpi_rank(comm) == 0;
   const bool write = options.write_output;
   const RunFiles files{c.output.directory};
   const std::filesystem::path checkpoint_file = files.checkpoint();
@@ -51,9 +53,13 @@ RunSummary run_loop(Model& model, const RunOptions& options) {
   };
 
   if (options.restart) {
-    const io::Checkpoint cp = io::read_checkpoint(checkpoint_file);
-    check_restart(cp, run_fingerprint(c, mesh), mesh.num_nodes(), model.block(), c.time.steps,
-                  checkpoint_file);
+    // Every rank reads the checkpoint; a missing or damaged one stops all with one message.
+    const io::Checkpoint cp = fem::alike_on_every_rank(comm, [&] {
+      io::Checkpoint read = io::read_checkpoint(checkpoint_file);
+      check_restart(read, run_fingerprint(c, mesh), mesh.num_nodes(), model.block(), c.time.steps,
+                    checkpoint_file);
+      return read;
+    });
     set_state(static_cast<int>(cp.step), cp, checkpoint_file);
     if (cp.exact_operator) // the method the run had switched to (fluid_solver.cpp)
       model.use_exact_operator();
@@ -70,7 +76,8 @@ RunSummary run_loop(Model& model, const RunOptions& options) {
                  checkpoint_file.string(), cp.exact_operator ? ", with the exact operator" : "");
   } else {
     if (!options.start_from.empty()) {
-      io::Checkpoint cp = io::read_checkpoint(options.start_from);
+      io::Checkpoint cp =
+          fem::alike_on_every_rank(comm, [&] { return io::read_checkpoint(options.start_from); });
       const int first = model.take_state(cp, options);
       set_state(first, cp, options.start_from);
       // Not the exact operator the run may have switched to: that was its step's need; at
