@@ -111,6 +111,19 @@ TEST(MriNonFinite, AllOfVzNotANumberIsRefused) {
               std::string::npos)
         << m.result.output;
   }
+  // On 2 ranks (`mri` runs on one, the other waits): the same refusal once, exit 2, no
+  // MPI_ABORT banner (issue 62, part 3).
+  const Measured m = measure("all-vz", ".mha", [](mri::Flow4D& d) {
+    for (mri::Frame& f : d.frames)
+      std::fill(f.velocity[2].begin(), f.velocity[2].end(), std::nanf(""));
+  });
+  const Result two = run_tearflow("mri flow " + (m.dir / "images").string() + " --landmarks " +
+                                      (m.dir / "landmarks.json").string() + " --venc 1m/s -o " +
+                                      (m.dir / "flow-2").string(),
+                                  "mpirun -n 2");
+  EXPECT_EQ(two.code, 2) << two.output;
+  EXPECT_EQ(count_matches(two.output, "error:"), 1) << two.output;
+  EXPECT_EQ(two.output.find("MPI_ABORT"), std::string::npos) << two.output;
 }
 
 TEST(MriNonFinite, EveryOtherVzVoxelNotANumberIsRefused) {
