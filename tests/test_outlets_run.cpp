@@ -128,12 +128,19 @@ TEST(OutletRun, NewtonIterationsDoNotGrowWithStiffWindkessels) {
   EXPECT_LE(sum_b, sum_a) << "total Newton iterations, base " << sum_a << ", stiff " << sum_b;
 }
 
-TEST(OutletRun, BackflowDivergesWithoutStabilizationAndIsBoundedWithIt) {
+TEST(OutletRun, BackflowWithoutStabilizationIsSaidAndWithItBounded) {
   using testing::HasSubstr;
+  // Without the stabilization this case failed Newton at t = 0.8 s under the selfp Schur
+  // preconditioner (10 iterations, stalled at 8e-4 of the first residual); under the compact
+  // pressure Laplacian (physics/pressure_schur.hpp) it completes with bounded pressures, so the
+  // failure was the linear solver's, not a blow-up (2026-12-07). What holds either way: the run
+  // says that the outlet's inflow ran without backflow stabilization.
   const Result off =
       run("run " + (data / "runs/backflow_off.yaml").string() + " -o " + fresh_dir("off").string());
-  EXPECT_EQ(off.code, 3) << off.output; // SolverError
-  EXPECT_THAT(off.output, HasSubstr("Newton failed"));
+  if (off.code == 0)
+    EXPECT_THAT(off.output, HasSubstr("no backflow stabilization"));
+  else
+    EXPECT_THAT(off.output, HasSubstr("Newton failed"));
 
   const fs::path dir = fresh_dir("on");
   const Result on = run("run " + (data / "runs/backflow_on.yaml").string() + " -o " + dir.string());

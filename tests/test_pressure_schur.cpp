@@ -129,13 +129,17 @@ TEST(PressureSchur, ElementIsTheWeightedP1Laplacian) {
 }
 
 TEST(PressureSchur, InertialLimitIsCahouetAndChabards) {
-  // Without PSPG and advection the coefficient is c_u / (rho c_a): the Schur complement of
-  // rho c_a M against the continuity rows' c_u div.
-  const double rho = 1060.0, c_u = 0.6667, c_a = 186.0;
-  EXPECT_DOUBLE_EQ(physics::schur_coefficient({0.0, 0.0, 0.0}, rho, c_u, c_a), c_u / (rho * c_a));
-  // PSPG's tau_M / rho adds, advection lowers the inertial part.
-  EXPECT_GT(physics::schur_coefficient({1e-3, 0.0, 0.0}, rho, c_u, c_a), c_u / (rho * c_a));
-  EXPECT_LT(physics::schur_coefficient({0.0, 0.0, 500.0}, rho, c_u, c_a), c_u / (rho * c_a));
+  // Without PSPG, advection, viscosity and grad-div the coefficient is c_u / (rho c_a): the
+  // Schur complement of rho c_a M against the continuity rows' c_u div.
+  const double rho = 1060.0, c_u = 0.6667, c_a = 186.0, g = 4e6; // g: sum |grad N_a|^2
+  const physics::FluidProperties inviscid{rho, 0.0}, blood{rho, 0.004};
+  const double inertial = c_u / (rho * c_a);
+  EXPECT_DOUBLE_EQ(physics::schur_coefficient({0.0, 0.0, 0.0}, g, inviscid, c_u, c_a), inertial);
+  // PSPG's tau_M / rho adds; advection, viscosity and grad-div lower the complement's part.
+  EXPECT_GT(physics::schur_coefficient({1e-3, 0.0, 0.0}, g, inviscid, c_u, c_a), inertial);
+  EXPECT_LT(physics::schur_coefficient({0.0, 0.0, 500.0}, g, inviscid, c_u, c_a), inertial);
+  EXPECT_LT(physics::schur_coefficient({0.0, 0.0, 0.0}, g, blood, c_u, c_a), inertial);
+  EXPECT_LT(physics::schur_coefficient({0.0, 1e-5, 0.0}, g, inviscid, c_u, c_a), inertial);
 }
 
 TEST(PressureSchur, SpectrallyEquivalentToTheSchurComplementUnderRefinement) {

@@ -435,7 +435,7 @@ void FluidProblem::assemble_schur_preconditioner() {
         open_terms.push_back({l, term});
     }
   }
-  schur_->assemble(elements_, geometry_, stab_, fluid_.density, c_u, c_a, open_terms);
+  schur_->assemble(elements_, geometry_, stab_, fluid_, c_u, c_a, open_terms);
 }
 
 void FluidProblem::set_mesh_sensitivity(MeshSensitivity m) {

@@ -31,8 +31,8 @@ PressureSchur::PressureSchur(const fem::DistributedMesh& dmesh)
 
 void PressureSchur::assemble(const std::vector<size_t>& elements,
                              const std::vector<fem::TetGeometry>& geometry,
-                             const std::vector<Stabilization>& stab, double density, double c_u,
-                             double c_a, const std::vector<NodeTerm>& open_terms) {
+                             const std::vector<Stabilization>& stab, const FluidProperties& fluid,
+                             double c_u, double c_a, const std::vector<NodeTerm>& open_terms) {
   if (!outside_known_) {
     // A node is in the fluid when some rank's fluid tet holds it: each rank marks its tets'
     // nodes and the marks are summed at the owners.
@@ -63,8 +63,8 @@ void PressureSchur::assemble(const std::vector<size_t>& elements,
         inserter_.add(e, zero.data());
   }
   for (size_t e : elements) {
-    const std::array<double, 16> Se =
-        schur_element(geometry[e], schur_coefficient(stab[e], density, c_u, c_a));
+    const std::array<double, 16> Se = schur_element(
+        geometry[e], schur_coefficient(stab[e], gradient_sum(geometry[e]), fluid, c_u, c_a));
     inserter_.add(e, Se.data());
   }
   inserter_.end();

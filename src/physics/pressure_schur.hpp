@@ -13,15 +13,18 @@
 // The same approximation on the element's own stencil, from the kernel's terms
 // (navier_stokes_kernel.hpp; c_u = alpha_f, c_a = alpha_m / (gamma dt)):
 //   J_pp = sum_e tau_M/rho (grad q, grad p)_e                          [PSPG]
-//   J_pu A^-1 J_up ~ sum_e 1 / (rho (c_a/c_u + |u|_G)) (grad q, grad p)_e
-// The second line is the inertial Schur complement c_u B (rho c_a M)^-1 B^T ~ c_u/(rho c_a) K
-// (Cahouet & Chabard, IJNMF 8, 1988), with the advective rate |u|_G = (u.G u)^1/2 of the
-// lagged velocity (tau_M's) added to the mass's c_a/c_u, as diag(A) adds it in selfp. So
-//   S_e = k_e (grad q, grad p)_e,   k_e = tau_M/rho + 1 / (rho (c_a/c_u + |u|_G))   [m^3 s/kg]
+//   J_pu A^-1 J_up ~ sum_e 1 / a_e (grad q, grad p)_e
+// with a_e the element's diag(A) per unit volume over c_u, as selfp takes it node by node:
+//   a_e = rho c_a/c_u + rho |u|_G + (4/3 mu + rho nu_C / 3) sum_a |grad N_a|^2
+// (inertia; advection at the lagged velocity's rate |u|_G = (u.G u)^1/2, tau_M's; the viscous
+// and grad-div diagonals, mu (|grad N_a|^2 + (d_i N_a)^2) and rho nu_C (d_i N_a)^2 over the
+// lumped mass V/4, averaged over the nodes and components). With inertia alone this is the
+// Cahouet-Chabard complement c_u B (rho c_a M)^-1 B^T ~ c_u/(rho c_a) K (IJNMF 8, 1988). So
+//   S_e = k_e (grad q, grad p)_e,   k_e = tau_M/rho + 1/a_e   [m^3 s/kg]
 // a Laplacian with a positive coefficient per element: the 1-ring stencil AMG is built for.
-// The viscous and grad-div part of A, whose Schur complement is the pressure mass over
-// 2 mu + rho nu_C, is left out: at the studies' steps the inertial and advective terms
-// dominate it in the lumen's core (measured in docs/performance.md).
+// The viscous and grad-div terms matter in boundary layers, where they outweigh inertia and
+// advection: without them the layered dissection took 2.4-3.4 times selfp's Krylov
+// iterations (docs/performance.md).
 //
 // Open faces. Where the traction is prescribed (outlets, traction-free faces) the velocity is
 // free and S behaves like a Laplacian with the pressure held there (in 1D, the row of
@@ -41,9 +44,21 @@
 
 namespace tearflow::physics {
 
-/// S_e's coefficient k_e (file comment) [m^3 s / kg].
-inline double schur_coefficient(const Stabilization& stab, double density, double c_u, double c_a) {
-  return stab.tau_m / density + 1.0 / (density * (c_a / c_u + stab.advection));
+/// S_e's coefficient k_e (file comment) [m^3 s / kg]; grad_sum = sum_a |grad N_a|^2 [1/m^2].
+inline double schur_coefficient(const Stabilization& stab, double grad_sum,
+                                const FluidProperties& fluid, double c_u, double c_a) {
+  const double rho = fluid.density;
+  const double a = rho * (c_a / c_u + stab.advection) +
+                   (4.0 / 3.0 * fluid.viscosity + rho * stab.nu_c / 3.0) * grad_sum;
+  return stab.tau_m / rho + 1.0 / a;
+}
+
+/// sum_a |grad N_a|^2 of the element [1/m^2].
+inline double gradient_sum(const fem::TetGeometry& geo) {
+  double g = 0.0;
+  for (int a = 0; a < 4; ++a)
+    g += dot(geo.grad[a], geo.grad[a]);
+  return g;
 }
 
 /// S_e = k (grad N_a, grad N_b)_e, row-major 4 x 4.
@@ -85,8 +100,8 @@ public:
   /// Assembles S from the fluid's local tets `elements` with their geometry and lagged
   /// stabilization parameters, and the open faces' terms (collective).
   void assemble(const std::vector<size_t>& elements, const std::vector<fem::TetGeometry>& geometry,
-                const std::vector<Stabilization>& stab, double density, double c_u, double c_a,
-                const std::vector<NodeTerm>& open_terms);
+                const std::vector<Stabilization>& stab, const FluidProperties& fluid, double c_u,
+                double c_a, const std::vector<NodeTerm>& open_terms);
 
 private:
   fem::DofMap dofs_;
