@@ -24,30 +24,16 @@ std::string first_failure(MPI_Comm comm, const std::string& message, bool failed
 
 /// read() on every rank of comm; an InputError on any rank is thrown on all (file comment).
 template <typename Read> auto alike_on_every_rank(MPI_Comm comm, Read&& read) {
-  using T = std::invoke_result_t<Read>;
+  std::optional<std::invoke_result_t<Read>> value;
   std::string message;
-  bool failed = false;
-  if constexpr (std::is_void_v<T>) {
-    try {
-      read();
-    } catch (const InputError& e) {
-      message = e.what();
-      failed = true;
-    }
-    if (std::string first = first_failure(comm, message, failed); !first.empty())
-      throw InputError(first, true);
-  } else {
-    std::optional<T> value;
-    try {
-      value.emplace(read());
-    } catch (const InputError& e) {
-      message = e.what();
-      failed = true;
-    }
-    if (std::string first = first_failure(comm, message, failed); !first.empty())
-      throw InputError(first, true);
-    return std::move(*value);
+  try {
+    value.emplace(read());
+  } catch (const InputError& e) {
+    message = e.what();
   }
+  if (std::string first = first_failure(comm, message, !value); !first.empty())
+    throw InputError(first, true);
+  return std::move(*value);
 }
 
 } // namespace tearflow::fem

@@ -424,13 +424,13 @@ void FluidProblem::assemble_schur_preconditioner() {
     if (!open[i] || !fluid_face_[i])
       continue;
     for (const Tri& t : dmesh_.faces()[i].triangles) {
+      if (dirichlet_[t[0]] == all_velocity && dirichlet_[t[1]] == all_velocity &&
+          dirichlet_[t[2]] == all_velocity)
+        continue; // a wall's or an inflow's
       double area;
       Vec3 n;
       bc::triangle_area_normal(x_[t[0]], x_[t[1]], x_[t[2]], area, n);
       const double term = schur_outlet_term(area, fluid_.density, c_u, c_a);
-      if (dirichlet_[t[0]] == all_velocity && dirichlet_[t[1]] == all_velocity &&
-          dirichlet_[t[2]] == all_velocity)
-        continue; // a wall's or an inflow's
       for (Index l : t)
         open_terms.push_back({l, term});
     }

@@ -80,8 +80,8 @@ public:
   /// Names the default preconditioner's blocks on the Newton solver's KSP
   /// (fsi_preconditioner.hpp).
   void attach_preconditioner(KSP ksp) {
-    if (preconditioner_->attach(ksp) && uses_schur_matrix(ksp))
-      use_schur_matrix(ksp, fluid_.schur_preconditioner());
+    if (preconditioner_->attach(ksp))
+      fluid_.attach_preconditioner(ksp); // the pressure split's Schur matrix
   }
   /// The fluid pressure's Schur matrix (pressure_schur.hpp), where the split uses one.
   void assemble_schur_preconditioner() { fluid_.assemble_schur_preconditioner(); }
